@@ -1,0 +1,56 @@
+#include "core/particles.hpp"
+
+#include <algorithm>
+#include <numbers>
+#include <string>
+
+#include "core/error.hpp"
+
+namespace debris {
+
+void Particles::resize(std::size_t n) {
+  for_each_column([n](const char*, auto& col) { col.resize(n); });
+}
+
+std::size_t Particles::add(std::int64_t pid, int ptype, double px, double py, double pz, double r) {
+  const std::size_t i = size();
+  resize(i + 1);
+  id[i] = pid;
+  type[i] = ptype;
+  group[i] = -1;
+  x[i] = px;
+  y[i] = py;
+  z[i] = pz;
+  radius[i] = r;
+  return i;
+}
+
+void Particles::permute(const std::vector<int>& order) {
+  for_each_column([&order](const char*, auto& col) {
+    auto copy = col;
+    for (std::size_t i = 0; i < order.size(); ++i) col[i] = copy[static_cast<std::size_t>(order[i])];
+  });
+}
+
+std::int64_t Particles::max_id() const {
+  return id.empty() ? -1 : *std::max_element(id.begin(), id.end());
+}
+
+void Particles::check_ids() const {
+  std::vector<std::int64_t> sorted = id;
+  std::sort(sorted.begin(), sorted.end());
+  if (!sorted.empty() && sorted.front() < 0)
+    throw input_error("particle id", std::to_string(sorted.front()), "ids must be >= 0");
+  const auto dup = std::adjacent_find(sorted.begin(), sorted.end());
+  if (dup != sorted.end()) throw input_error("particle id", std::to_string(*dup), "ids must be unique");
+}
+
+void Particles::set_mass_from_density(double density) {
+  for (std::size_t i = 0; i < size(); ++i) {
+    const double r = radius[i];
+    mass[i] = density * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    inertia[i] = 0.4 * mass[i] * r * r;
+  }
+}
+
+}  // namespace debris

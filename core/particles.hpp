@@ -1,0 +1,84 @@
+#pragma once
+// Structure-of-arrays particle storage. Every per-particle field is one contiguous column, declared once
+// in the field lists below; permute() and resize() walk those lists, so adding a field is one line.
+// A particle's index changes when we sort by cell; its permanent `id` never does, so anything that must
+// follow a particle (contact history, groups, output) goes through the id.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace debris {
+
+// clang-format off
+#define DEBRIS_PARTICLE_DOUBLE_FIELDS(X) \
+  X(x) X(y) X(z)       /* position (wrapped into the box on periodic axes) */      \
+  X(vx) X(vy) X(vz)    /* velocity */                                               \
+  X(wx) X(wy) X(wz)    /* angular velocity */                                       \
+  X(fx) X(fy) X(fz)    /* force of the current step */                              \
+  X(tx) X(ty) X(tz)    /* torque of the current step */                             \
+  X(radius) X(mass) X(inertia)
+#define DEBRIS_PARTICLE_INT_FIELDS(X) \
+  X(type)              /* material / output type, >= 1 as in LAMMPS */              \
+  X(group)             /* index of the motion group, -1 for a free particle */      \
+  X(ix) X(iy) X(iz)    /* periodic image counts, for unwrapped positions */
+#define DEBRIS_PARTICLE_ID_FIELDS(X) X(id)
+// clang-format on
+
+class Particles {
+ public:
+#define DEBRIS_DECLARE_COLUMN(name) std::vector<double> name;
+  DEBRIS_PARTICLE_DOUBLE_FIELDS(DEBRIS_DECLARE_COLUMN)
+#undef DEBRIS_DECLARE_COLUMN
+#define DEBRIS_DECLARE_COLUMN(name) std::vector<int> name;
+  DEBRIS_PARTICLE_INT_FIELDS(DEBRIS_DECLARE_COLUMN)
+#undef DEBRIS_DECLARE_COLUMN
+#define DEBRIS_DECLARE_COLUMN(name) std::vector<std::int64_t> name;
+  DEBRIS_PARTICLE_ID_FIELDS(DEBRIS_DECLARE_COLUMN)
+#undef DEBRIS_DECLARE_COLUMN
+
+  std::size_t size() const { return id.size(); }
+  void resize(std::size_t n);
+  void clear() { resize(0); }
+
+  /// Appends one particle at rest; returns its index. mass/inertia are set later by the material.
+  std::size_t add(std::int64_t id, int type, double x, double y, double z, double radius);
+
+  /// Reorders every column: new index i holds the particle that was at order[i].
+  void permute(const std::vector<int>& order);
+
+  /// Largest permanent id (or -1 when empty).
+  std::int64_t max_id() const;
+
+  /// Throws InputError if ids are negative or repeated.
+  void check_ids() const;
+
+  /// Sets mass = density * 4/3 pi r^3 and inertia = 2/5 m r^2 (solid spheres).
+  void set_mass_from_density(double density);
+
+  /// Bytes held per particle by the columns (for memory reports).
+  static constexpr std::size_t bytes_per_particle() {
+    std::size_t b = 0;
+#define DEBRIS_COUNT(name) b += sizeof(double);
+    DEBRIS_PARTICLE_DOUBLE_FIELDS(DEBRIS_COUNT)
+#undef DEBRIS_COUNT
+#define DEBRIS_COUNT(name) b += sizeof(int);
+    DEBRIS_PARTICLE_INT_FIELDS(DEBRIS_COUNT)
+#undef DEBRIS_COUNT
+#define DEBRIS_COUNT(name) b += sizeof(std::int64_t);
+    DEBRIS_PARTICLE_ID_FIELDS(DEBRIS_COUNT)
+#undef DEBRIS_COUNT
+    return b;
+  }
+
+  /// Calls f(column) for every column; used for permutation, residency and checkpoints.
+  template <class F>
+  void for_each_column(F&& f) {
+#define DEBRIS_VISIT(name) f(#name, name);
+    DEBRIS_PARTICLE_DOUBLE_FIELDS(DEBRIS_VISIT)
+    DEBRIS_PARTICLE_INT_FIELDS(DEBRIS_VISIT)
+    DEBRIS_PARTICLE_ID_FIELDS(DEBRIS_VISIT)
+#undef DEBRIS_VISIT
+  }
+};
+
+}  // namespace debris
