@@ -1,0 +1,27 @@
+#pragma once
+// Snapshots as LAMMPS `dump custom` text frames, the format OVITO opens directly:
+//   ITEM: ATOMS id type x y z radius vx vy vz fx fy fz
+// One file holds every frame of a run; each frame is flushed, so a killed run keeps what it wrote.
+#include <fstream>
+#include <string>
+
+#include "core/box.hpp"
+#include "core/particles.hpp"
+
+namespace debris {
+
+class DumpWriter {
+ public:
+  /// Truncates `path`; InputError ("output") if it cannot be opened.
+  explicit DumpWriter(const std::string& path);
+
+  /// Appends one frame with the particles sorted by id (their order in memory changes when they are
+  /// sorted by cell) and every value at full double precision.
+  void write_frame(long step, const Box& box, const Particles& p);
+
+ private:
+  std::string path_;
+  std::ofstream out_;
+};
+
+}  // namespace debris

@@ -1,0 +1,427 @@
+#include "core/io/input.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <set>
+
+#include "core/error.hpp"
+
+namespace debris {
+
+/// Shared by every copy of every node of one file: what the run asked for and what it read.
+struct InputNode::Tracking {
+  std::string source;                                     // file name, for messages
+  std::set<std::string> read;                             // key paths consumed by a getter
+  std::map<std::string, std::vector<std::string>> known;  // node path -> keys asked for, in order
+};
+
+namespace {
+
+using NodePtr = std::shared_ptr<const YAML::Node>;
+
+std::string join(const std::string& path, const std::string& key) {
+  return path.empty() ? key : path + "." + key;
+}
+
+std::string element_path(const std::string& path, std::size_t i) {
+  return path + "[" + std::to_string(i) + "]";
+}
+
+/// The value as the user wrote it, short enough for a one-line message.
+std::string show(const YAML::Node& node) {
+  if (!node.IsDefined() || node.IsNull()) return "(no value)";
+  if (node.IsScalar()) return node.Scalar();
+  YAML::Emitter out;
+  out.SetMapFormat(YAML::Flow);
+  out.SetSeqFormat(YAML::Flow);
+  out << node;
+  std::string text = out.c_str();
+  if (text.size() > 80) text = text.substr(0, 77) + "...";
+  return text;
+}
+
+std::string kind(const YAML::Node& node) {
+  if (node.IsMap()) return "a map";
+  if (node.IsSequence()) return "a sequence";
+  if (node.IsScalar()) return "a single value";
+  return "empty";
+}
+
+/// " (in.yaml line 12)", or nothing for a node that did not come from the parser.
+std::string where(const std::string& source, const YAML::Node& node) {
+  const YAML::Mark mark = node.Mark();
+  if (mark.is_null() || mark.line < 0) return "";
+  return " (" + source + " line " + std::to_string(mark.line + 1) + ")";
+}
+
+/// input_error() with the place in the file appended.
+InputError fail(const std::string& path, const std::string& value, const std::string& what,
+                const std::string& location) {
+  return InputError(input_error(path, value, what).what() + location);
+}
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string::npos) return "";
+  return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
+}
+
+std::string list_of(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out.empty() ? "(none)" : out;
+}
+
+/// Edits (insert, delete, replace, swap two neighbours) that turn a into b: the usual typos count one each.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[a.size()][b.size()];
+}
+
+/// yaml-cpp keeps repeated keys and answers with the first; a repeated key is almost always a mistake.
+void check_keys(const YAML::Node& node, const std::string& path, const std::string& source) {
+  if (node.IsMap()) {
+    std::set<std::string> seen;
+    for (const auto& entry : node) {
+      if (!entry.first.IsScalar())
+        throw fail(path.empty() ? source : path, show(entry.first), "keys must be plain names",
+                   where(source, entry.first));
+      const std::string key = entry.first.Scalar();
+      if (!seen.insert(key).second)
+        throw fail(join(path, key), show(entry.second), "key given twice; keep only one",
+                   where(source, entry.first));
+      check_keys(entry.second, join(path, key), source);
+    }
+  } else if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i) check_keys(node[i], element_path(path, i), source);
+  }
+}
+
+}  // namespace
+
+// ---- loading ----------------------------------------------------------------------------------------
+
+InputNode InputNode::load_string(const std::string& yaml, const std::string& name) {
+  std::vector<YAML::Node> documents;
+  try {
+    documents = YAML::LoadAll(yaml);
+  } catch (const YAML::Exception& e) {
+    const std::string location =
+        e.mark.is_null() ? std::string()
+                         : " at line " + std::to_string(e.mark.line + 1) + ", column " +
+                               std::to_string(e.mark.column + 1);
+    throw input_error("input file", name, "YAML syntax error" + location + ": " + e.msg);
+  }
+  if (documents.size() > 1)
+    throw input_error("input file", name,
+                      "holds " + std::to_string(documents.size()) + " YAML documents ('---'); expected one");
+  YAML::Node root = documents.empty() ? YAML::Node(YAML::NodeType::Map) : documents.front();
+  if (root.IsNull()) root = YAML::Node(YAML::NodeType::Map);  // an empty file: every key takes its default
+  if (!root.IsMap())
+    throw input_error("input file", name,
+                      "the top level is " + kind(root) + "; expected a map of keys such as 'material:'");
+  check_keys(root, "", name);
+  auto tracking = std::make_shared<Tracking>();
+  tracking->source = name;
+  return InputNode(std::make_shared<const YAML::Node>(root), "", tracking);
+}
+
+InputNode InputNode::load_file(const std::string& path) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (status.type() == std::filesystem::file_type::not_found) throw input_error("input file", path, "no such file");
+  if (ec) throw input_error("input file", path, "cannot be accessed: " + ec.message());
+  if (std::filesystem::is_directory(status)) throw input_error("input file", path, "is a directory, not a file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw input_error("input file", path, "cannot be opened for reading");
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (in.bad()) throw input_error("input file", path, "cannot be read");
+  return load_string(text, path);
+}
+
+InputNode::InputNode(NodePtr node, std::string path, std::shared_ptr<Tracking> tracking)
+    : node_(std::move(node)), path_(std::move(path)), tracking_(std::move(tracking)) {}
+
+// ---- structure --------------------------------------------------------------------------------------
+
+struct InputNode::Value {
+  YAML::Node node;
+  std::string path;      // "material.density"
+  std::string location;  // " (run.yaml line 12)": the line of the key, which a null value lacks
+};
+
+bool InputNode::is_map() const { return node_->IsMap(); }
+bool InputNode::is_sequence() const { return node_->IsSequence(); }
+bool InputNode::is_scalar() const { return node_->IsScalar(); }
+
+std::shared_ptr<const InputNode::Value> InputNode::find(const std::string& key) const {
+  auto& known = tracking_->known[path_];
+  if (std::find(known.begin(), known.end(), key) == known.end()) known.push_back(key);
+  if (!node_->IsMap())
+    throw fail(path_.empty() ? tracking_->source : path_, show(*node_),
+               "is " + kind(*node_) + "; expected a map with the key '" + key + "'", where(tracking_->source, *node_));
+  for (const auto& entry : *node_) {
+    if (entry.first.Scalar() != key) continue;
+    const std::string path = join(path_, key);
+    tracking_->read.insert(path);
+    return std::make_shared<const Value>(Value{entry.second, path, where(tracking_->source, entry.first)});
+  }
+  return nullptr;
+}
+
+std::shared_ptr<const InputNode::Value> InputNode::require(const std::string& key, const std::string& expected) const {
+  auto value = find(key);
+  if (!value) {
+    const std::string location = where(tracking_->source, *node_);
+    throw fail(join(path_, key), "(absent)", "missing key; expected " + expected,
+               path_.empty() || location.empty() ? "" : " (in the section at " + location.substr(2));
+  }
+  return value;
+}
+
+InputNode::Value InputNode::self() const { return Value{*node_, path_, where(tracking_->source, *node_)}; }
+
+bool InputNode::has(const std::string& key) const {
+  auto& known = tracking_->known[path_];
+  if (std::find(known.begin(), known.end(), key) == known.end()) known.push_back(key);
+  if (!node_->IsMap()) return false;
+  for (const auto& entry : *node_)
+    if (entry.first.Scalar() == key) return true;
+  return false;
+}
+
+std::vector<std::string> InputNode::keys() const {
+  std::vector<std::string> out;
+  if (node_->IsMap())
+    for (const auto& entry : *node_) out.push_back(entry.first.Scalar());
+  return out;
+}
+
+InputNode InputNode::child(const std::string& key) const {
+  const auto value = require(key, "a section '" + key + ":'");
+  return InputNode(std::make_shared<const YAML::Node>(value->node), value->path, tracking_);
+}
+
+std::vector<InputNode> InputNode::list(const std::string& key) const {
+  const auto value = require(key, "a list");
+  const YAML::Node& seq = value->node;
+  if (!seq.IsSequence())
+    throw fail(value->path, show(seq), "is " + kind(seq) + "; expected a list such as [a, b]", value->location);
+  std::vector<InputNode> out;
+  for (std::size_t i = 0; i < seq.size(); ++i)
+    out.push_back(InputNode(std::make_shared<const YAML::Node>(seq[i]), element_path(value->path, i), tracking_));
+  return out;
+}
+
+// ---- values -----------------------------------------------------------------------------------------
+// Each converter takes the node, its key path and its place in the file, so that its errors name all three.
+
+namespace {
+
+/// The scalar text of a value, or an error saying what was expected instead.
+std::string scalar_text(const YAML::Node& node, const std::string& path, const std::string& location,
+                        const std::string& expected) {
+  if (!node.IsScalar()) throw fail(path, show(node), "is " + kind(node) + "; expected " + expected, location);
+  return node.Scalar();
+}
+
+double to_quantity(const YAML::Node& node, const std::string& path, const std::string& location,
+                   units::Dimension dim) {
+  const std::string text = scalar_text(node, path, location, "a single value in " + units::to_string(dim));
+  try {
+    return units::parse(text, dim, path);
+  } catch (const InputError& e) {
+    throw InputError(e.what() + location);
+  }
+}
+
+Vec3 to_vec3(const YAML::Node& node, const std::string& path, const std::string& location,
+             const std::string& source, units::Dimension dim) {
+  if (!node.IsSequence() || node.size() != 3)
+    throw fail(path, show(node),
+               "expected three values [x, y, z] in " + units::to_string(dim) +
+                   ", such as [1, 2, 3] or ['1 nm', '2 nm', '3 nm']",
+               location);
+  double xyz[3];
+  for (std::size_t i = 0; i < 3; ++i) {
+    const std::string at = node[i].IsNull() ? location : where(source, node[i]);
+    xyz[i] = to_quantity(node[i], element_path(path, i), at, dim);
+  }
+  return {xyz[0], xyz[1], xyz[2]};
+}
+
+long to_integer(const YAML::Node& node, const std::string& path, const std::string& location) {
+  const std::string text = trim(scalar_text(node, path, location, "a whole number such as 42"));
+  const char* begin = text.data();
+  const char* end = text.data() + text.size();
+  if (begin != end && *begin == '+') ++begin;  // from_chars refuses an explicit '+'
+  long value = 0;
+  const auto [stop, ec] = std::from_chars(begin, end, value);
+  if (ec == std::errc::result_out_of_range) throw fail(path, text, "out of the range of a whole number", location);
+  if (ec != std::errc() || stop != end || begin == end)
+    throw fail(path, text, "expected a whole number such as 42", location);
+  return value;
+}
+
+bool to_boolean(const YAML::Node& node, const std::string& path, const std::string& location) {
+  std::string text = trim(scalar_text(node, path, location, "true or false"));
+  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (text == "true" || text == "yes" || text == "on") return true;
+  if (text == "false" || text == "no" || text == "off") return false;
+  throw fail(path, node.Scalar(), "expected true or false", location);
+}
+
+std::string to_choice(const YAML::Node& node, const std::string& path, const std::string& location,
+                      const std::vector<std::string>& allowed) {
+  const std::string expected = "one of: " + list_of(allowed);
+  const std::string text = scalar_text(node, path, location, expected);
+  if (std::find(allowed.begin(), allowed.end(), text) == allowed.end())
+    throw fail(path, text, "must be " + expected, location);
+  return text;
+}
+
+}  // namespace
+
+double InputNode::quantity(const std::string& key, units::Dimension dim) const {
+  const auto v = require(key, "a value in " + units::to_string(dim));
+  return to_quantity(v->node, v->path, v->location, dim);
+}
+
+double InputNode::quantity(const std::string& key, units::Dimension dim, double fallback) const {
+  const auto v = find(key);
+  return v ? to_quantity(v->node, v->path, v->location, dim) : fallback;
+}
+
+double InputNode::quantity(units::Dimension dim) const {
+  const Value v = self();
+  return to_quantity(v.node, v.path, v.location, dim);
+}
+
+Vec3 InputNode::vec3(const std::string& key, units::Dimension dim) const {
+  const auto v = require(key, "[x, y, z] in " + units::to_string(dim));
+  return to_vec3(v->node, v->path, v->location, tracking_->source, dim);
+}
+
+Vec3 InputNode::vec3(const std::string& key, units::Dimension dim, Vec3 fallback) const {
+  const auto v = find(key);
+  return v ? to_vec3(v->node, v->path, v->location, tracking_->source, dim) : fallback;
+}
+
+long InputNode::integer(const std::string& key) const {
+  const auto v = require(key, "a whole number");
+  return to_integer(v->node, v->path, v->location);
+}
+
+long InputNode::integer(const std::string& key, long fallback) const {
+  const auto v = find(key);
+  return v ? to_integer(v->node, v->path, v->location) : fallback;
+}
+
+bool InputNode::boolean(const std::string& key) const {
+  const auto v = require(key, "true or false");
+  return to_boolean(v->node, v->path, v->location);
+}
+
+bool InputNode::boolean(const std::string& key, bool fallback) const {
+  const auto v = find(key);
+  return v ? to_boolean(v->node, v->path, v->location) : fallback;
+}
+
+std::string InputNode::string(const std::string& key) const {
+  const auto v = require(key, "a text value");
+  return scalar_text(v->node, v->path, v->location, "a text value");
+}
+
+std::string InputNode::string(const std::string& key, const std::string& fallback) const {
+  const auto v = find(key);
+  return v ? scalar_text(v->node, v->path, v->location, "a text value") : fallback;
+}
+
+std::string InputNode::text() const {
+  const Value v = self();
+  return scalar_text(v.node, v.path, v.location, "a text value");
+}
+
+std::string InputNode::choice(const std::string& key, const std::vector<std::string>& allowed) const {
+  const auto v = require(key, "one of: " + list_of(allowed));
+  return to_choice(v->node, v->path, v->location, allowed);
+}
+
+std::string InputNode::choice(const std::string& key, const std::vector<std::string>& allowed,
+                              const std::string& fallback) const {
+  const auto v = find(key);
+  return v ? to_choice(v->node, v->path, v->location, allowed) : fallback;
+}
+
+std::vector<double> InputNode::numbers(const std::string& key, units::Dimension dim) const {
+  const auto v = require(key, "a list of values in " + units::to_string(dim));
+  if (!v->node.IsSequence())
+    throw fail(v->path, show(v->node),
+               "is " + kind(v->node) + "; expected a list of values in " + units::to_string(dim) + " such as [1, 2, 3]",
+               v->location);
+  std::vector<double> out;
+  for (std::size_t i = 0; i < v->node.size(); ++i) {
+    const YAML::Node element = v->node[i];
+    const std::string at = element.IsNull() ? v->location : where(tracking_->source, element);
+    out.push_back(to_quantity(element, element_path(v->path, i), at, dim));
+  }
+  return out;
+}
+
+// ---- unknown keys -----------------------------------------------------------------------------------
+
+namespace {
+
+using KnownKeys = std::map<std::string, std::vector<std::string>>;
+
+void check_read(const YAML::Node& node, const std::string& path, const std::string& source,
+                const std::set<std::string>& read, const KnownKeys& known_keys) {
+  if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i)
+      check_read(node[i], element_path(path, i), source, read, known_keys);
+    return;
+  }
+  if (!node.IsMap()) return;
+  for (const auto& entry : node) {
+    const std::string key = entry.first.Scalar();
+    const std::string key_path = join(path, key);
+    if (read.count(key_path) == 0) {
+      const auto known_it = known_keys.find(path);
+      const std::vector<std::string> known =
+          known_it == known_keys.end() ? std::vector<std::string>{} : known_it->second;
+      std::string what = "unknown key";
+      // A one- or two-letter slip is the usual cause; name the key that was probably meant.
+      for (const auto& k : known)
+        if (edit_distance(k, key) <= (k.size() <= 4 ? 1u : 2u)) {
+          what += "; did you mean '" + k + "'?";
+          break;
+        }
+      what += "; known keys here: " + list_of(known);
+      throw fail(key_path, show(entry.second), what, where(source, entry.first));
+    }
+    check_read(entry.second, key_path, source, read, known_keys);
+  }
+}
+
+}  // namespace
+
+void InputNode::reject_unknown_keys() const {
+  check_read(*node_, path_, tracking_->source, tracking_->read, tracking_->known);
+}
+
+}  // namespace debris

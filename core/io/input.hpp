@@ -1,0 +1,96 @@
+#pragma once
+// The YAML input file as a tree of nodes that know their dotted key path ("groups[1].motion"), so every
+// error names where it is. Getters convert on the spot (quantities with units go to SI) and remember what
+// was read; reject_unknown_keys() then reports anything the run never asked for, which is how a typo such
+// as "youngs_modulu" fails loudly instead of silently falling back to a default.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/units.hpp"
+#include "core/vec3.hpp"
+
+namespace YAML {
+class Node;
+}
+
+namespace debris {
+
+class InputNode {
+ public:
+  /// InputError naming the path if the file is missing or unreadable, or the line and column of a syntax error.
+  static InputNode load_file(const std::string& path);
+  /// `name` stands in for the file name in error messages.
+  static InputNode load_string(const std::string& yaml, const std::string& name = "<string>");
+
+  /// Dotted key path of this node: "" for the root, "material", "groups[1].motion".
+  const std::string& path() const { return path_; }
+
+  bool is_map() const;
+  bool is_sequence() const;
+  bool is_scalar() const;
+
+  /// Whether this map has `key`; does not count as reading it.
+  bool has(const std::string& key) const;
+  /// The keys of this map in file order; does not count as reading them.
+  std::vector<std::string> keys() const;
+
+  /// The node under `key`; InputError "missing key" if absent.
+  InputNode child(const std::string& key) const;
+  /// The elements of the sequence under `key` (maps or scalars), with paths "key[i]".
+  std::vector<InputNode> list(const std::string& key) const;
+
+  /// A number with an optional unit, in SI ("73 GPa" -> 7.3e10); a plain number is taken as given.
+  double quantity(const std::string& key, units::Dimension dim) const;
+  double quantity(const std::string& key, units::Dimension dim, double fallback) const;
+  /// This scalar node itself as a quantity (for the elements handed out by list()).
+  double quantity(units::Dimension dim) const;
+
+  /// A sequence of three quantities: [1, 2, 3] or ["1 nm", "2 nm", "3 nm"].
+  Vec3 vec3(const std::string& key, units::Dimension dim) const;
+  Vec3 vec3(const std::string& key, units::Dimension dim, Vec3 fallback) const;
+
+  /// A whole number; "1.5", "1e3" and "abc" are errors.
+  long integer(const std::string& key) const;
+  long integer(const std::string& key, long fallback) const;
+
+  /// true/false (also yes/no, on/off).
+  bool boolean(const std::string& key) const;
+  bool boolean(const std::string& key, bool fallback) const;
+
+  std::string string(const std::string& key) const;
+  std::string string(const std::string& key, const std::string& fallback) const;
+  /// This scalar node itself as text (for the elements handed out by list()).
+  std::string text() const;
+
+  /// A string that must be one of `allowed`; the error lists them.
+  std::string choice(const std::string& key, const std::vector<std::string>& allowed) const;
+  std::string choice(const std::string& key, const std::vector<std::string>& allowed,
+                     const std::string& fallback) const;
+
+  /// A sequence of quantities, each converted to SI.
+  std::vector<double> numbers(const std::string& key, units::Dimension dim) const;
+
+  /// Throws InputError for the first key of this map, and recursively of every map or sequence read from
+  /// it, that no getter ever read: "'material.youngs_modulu' = 1: unknown key; known keys here: ...".
+  /// Copies of a node share what has been read, so the check can run on the root at the end of setup.
+  void reject_unknown_keys() const;
+
+ private:
+  struct Tracking;
+  struct Value;  // a node found under a key, with its path and its place in the file
+  InputNode(std::shared_ptr<const YAML::Node> node, std::string path, std::shared_ptr<Tracking> tracking);
+
+  /// The value under `key`, or null when absent; records `key` as known here and, if present, as read.
+  std::shared_ptr<const Value> find(const std::string& key) const;
+  /// As find(), but a missing key is an InputError that says what was `expected`.
+  std::shared_ptr<const Value> require(const std::string& key, const std::string& expected) const;
+  /// This node itself as a Value, for the getters that read a list element directly.
+  Value self() const;
+
+  std::shared_ptr<const YAML::Node> node_;
+  std::string path_;
+  std::shared_ptr<Tracking> tracking_;
+};
+
+}  // namespace debris

@@ -1,0 +1,46 @@
+#include "core/io/thermo_csv.hpp"
+
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+#include <stdexcept>
+
+#include "core/error.hpp"
+
+namespace debris {
+
+ThermoCsv::ThermoCsv(const std::string& path, std::vector<std::string> columns)
+    : path_(path), columns_(std::move(columns)) {
+  if (columns_.empty()) throw std::invalid_argument("ThermoCsv '" + path + "': no columns");
+  std::string header;
+  for (const auto& c : columns_) {
+    // Names are written unquoted, so anything that would need CSV quoting is refused.
+    if (c.empty() || c.find_first_of(",\"\r\n") != std::string::npos)
+      throw std::invalid_argument("ThermoCsv '" + path + "': bad column name '" + c + "'");
+    header += (header.empty() ? "" : ",") + c;
+  }
+  out_.open(path, std::ios::binary | std::ios::trunc);
+  if (!out_) throw input_error("output", path, std::string("cannot open for writing: ") + std::strerror(errno));
+  out_ << header << '\n' << std::flush;
+  if (!out_) throw input_error("output", path, "writing the header failed (disk full?)");
+}
+
+void ThermoCsv::write_row(const std::vector<double>& values) {
+  if (values.size() != columns_.size())
+    throw std::logic_error("ThermoCsv '" + path_ + "': row has " + std::to_string(values.size()) +
+                           " values for " + std::to_string(columns_.size()) + " columns");
+  std::string line;
+  char buf[32];
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (i > 0) line += ',';
+    // Full double precision (%.17g), independent of the locale's decimal separator.
+    const auto res = std::to_chars(buf, buf + sizeof buf, values[i], std::chars_format::general, 17);
+    line.append(buf, res.ptr);
+  }
+  line += '\n';
+  out_.write(line.data(), static_cast<std::streamsize>(line.size()));
+  out_.flush();
+  if (!out_) throw input_error("output", path_, "writing a row failed (disk full?)");
+}
+
+}  // namespace debris

@@ -1,0 +1,27 @@
+#pragma once
+// A CSV table of run statistics (step, time, energies, ...), one row per call. Each row is flushed, so a
+// run that is killed keeps every row it wrote and can be plotted while it runs.
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace debris {
+
+class ThermoCsv {
+ public:
+  /// Truncates `path` and writes the header line; InputError ("output") if it cannot be opened.
+  /// Column names may not contain ',', '"' or line breaks (std::invalid_argument).
+  ThermoCsv(const std::string& path, std::vector<std::string> columns);
+
+  /// One row at full double precision; std::logic_error if values.size() differs from the columns.
+  void write_row(const std::vector<double>& values);
+
+  const std::vector<std::string>& columns() const { return columns_; }
+
+ private:
+  std::string path_;
+  std::vector<std::string> columns_;
+  std::ofstream out_;
+};
+
+}  // namespace debris
