@@ -1,0 +1,93 @@
+#include "core/cell_list.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/exec.hpp"
+
+namespace debris {
+
+namespace {
+
+DEBRIS_DECLARE_TARGET
+// Cell coordinate along one axis. Periodic: the periodic image of the coordinate, so an unwrapped
+// particle still lands in the right cell. Otherwise clamped into [0, nc). fmax maps NaN to 0, so bad
+// input can never index outside the grid.
+inline int bin(double x, double lo, double inv_edge, int nc, int periodic) {
+  double t = (x - lo) * inv_edge;
+  if (periodic) t -= nc * std::floor(t / nc);
+  t = std::fmin(std::fmax(t, 0.0), nc - 1.0);
+  return static_cast<int>(t);
+}
+DEBRIS_END_DECLARE_TARGET
+
+long long cells_on_axis(double len, double min_cell_size, bool periodic) {
+  // Bounded before the conversion: a huge box over a tiny cell must not overflow.
+  const double f = std::min(std::floor(len / min_cell_size), 1e9);
+  long long nc = f >= 1 ? static_cast<long long>(f) : 1;
+  if (periodic && nc < 3) nc = 1;
+  return nc;
+}
+
+}  // namespace
+
+void CellList::build(const BoxView& box, const double* x, const double* y, const double* z, int n,
+                     double min_cell_size) {
+  if (!(std::isfinite(min_cell_size) && min_cell_size > 0)) {
+    std::ostringstream v;
+    v << min_cell_size;
+    throw input_error("cell_list.min_cell_size", v.str(), "must be finite and > 0");
+  }
+  long long nc[3];
+  for (int a = 0; a < 3; ++a) nc[a] = cells_on_axis(box.len[a], min_cell_size, box.periodic[a] != 0);
+  // Coarsen the finest axis until the grid is O(n): larger cells are always correct, only slower.
+  const long long limit = max_cells(n);
+  while (nc[0] * nc[1] * nc[2] > limit) {
+    const int a = static_cast<int>(std::max_element(nc, nc + 3) - nc);
+    nc[a] /= 2;
+    if (nc[a] < 1 || (box.periodic[a] && nc[a] < 3)) nc[a] = 1;
+  }
+  for (int a = 0; a < 3; ++a) {
+    dims_[a] = static_cast<int>(nc[a]);
+    edge_[a] = box.len[a] / dims_[a];
+  }
+  n_ = n;
+  const int ncell = cell_count();
+
+  // resize keeps the capacity: no reallocation when n and the grid do not grow.
+  cell_of_.resize(static_cast<std::size_t>(n));
+  sorted_index_.resize(static_cast<std::size_t>(n));
+  cell_start_.assign(static_cast<std::size_t>(ncell) + 1, 0);
+  cursor_.resize(static_cast<std::size_t>(ncell));
+
+  const double* __restrict px = x;
+  const double* __restrict py = y;
+  const double* __restrict pz = z;
+  int* __restrict cell = cell_of_.data();
+  const double lo0 = box.lo[0], lo1 = box.lo[1], lo2 = box.lo[2];
+  const double inv0 = 1.0 / edge_[0], inv1 = 1.0 / edge_[1], inv2 = 1.0 / edge_[2];
+  const int n0 = dims_[0], n1 = dims_[1], n2 = dims_[2];
+  const int p0 = box.periodic[0], p1 = box.periodic[1], p2 = box.periodic[2];
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    const int cx = bin(px[i], lo0, inv0, n0, p0);
+    const int cy = bin(py[i], lo1, inv1, n1, p1);
+    const int cz = bin(pz[i], lo2, inv2, n2, p2);
+    cell[i] = cx + n0 * (cy + n1 * cz);
+  }
+
+  // Counting sort, serial: it is a small part of a rebuild and keeps the order deterministic.
+  int* start = cell_start_.data();
+  for (int i = 0; i < n; ++i) ++start[cell[i] + 1];
+  for (int c = 0; c < ncell; ++c) start[c + 1] += start[c];
+  std::copy(cell_start_.begin(), cell_start_.end() - 1, cursor_.begin());
+  for (int i = 0; i < n; ++i) sorted_index_[static_cast<std::size_t>(cursor_[static_cast<std::size_t>(cell[i])]++)] = i;
+}
+
+std::size_t CellList::bytes() const {
+  return sizeof(int) * (cell_start_.capacity() + sorted_index_.capacity() + cell_of_.capacity() + cursor_.capacity());
+}
+
+}  // namespace debris

@@ -1,0 +1,103 @@
+#include "core/neighbor_list.hpp"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include "core/error.hpp"
+
+namespace debris {
+
+namespace {
+std::string str(double v) {
+  std::ostringstream os;
+  os.precision(12);
+  os << v;
+  return os.str();
+}
+}  // namespace
+
+double NeighborList::max_radius(const Particles& p) {
+  const int n = static_cast<int>(p.size());
+  const double* __restrict r = p.radius.data();
+  double r_max = 0.0;
+  DEBRIS_KERNEL_MAX(r_max)
+  for (int i = 0; i < n; ++i) r_max = r[i] > r_max ? r[i] : r_max;
+  return r_max;
+}
+
+void NeighborList::check(const BoxView& box, const Particles& p, double max_cutoff, double skin,
+                         double r_max_cutoff) const {
+  if (!(std::isfinite(max_cutoff) && max_cutoff > 0))
+    throw input_error("neighbor.max_cutoff", str(max_cutoff), "must be finite and > 0");
+  if (!(std::isfinite(skin) && skin >= 0)) throw input_error("neighbor.skin", str(skin), "must be finite and >= 0");
+  // The largest pair is the usual way to get max_cutoff wrong; a too small bound silently loses pairs.
+  if (r_max_cutoff > max_cutoff * (1.0 + 1e-12))
+    throw input_error("neighbor.max_cutoff", str(max_cutoff),
+                      "is smaller than the cutoff of two of the largest particles, " + str(r_max_cutoff));
+  if (p.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw input_error("particles", std::to_string(p.size()), "more particles than an int can index");
+  const double reach = max_cutoff + skin;
+  for (int a = 0; a < 3; ++a) {
+    if (box.periodic[a] && box.len[a] < 2.0 * reach)
+      throw input_error(std::string("box.") + "xyz"[a], str(box.len[a]),
+                        "a periodic axis must be at least 2 * (max_cutoff + skin) = " + str(2.0 * reach) +
+                            " long, or the minimum image of a neighbour pair would be ambiguous");
+  }
+}
+
+int NeighborList::prefix_sum() {
+  // Serial: one add per particle, and the offsets do not depend on the thread count.
+  long long total = 0;
+  offset_[0] = 0;
+  for (std::size_t i = 1; i < offset_.size(); ++i) {
+    total += offset_[i];
+    if (total > std::numeric_limits<int>::max())
+      throw input_error("neighbor.max_cutoff", "(list of " + std::to_string(total) + "+ entries)",
+                        "too many neighbour entries for int offsets; reduce the cutoff or the skin");
+    offset_[i] = static_cast<int>(total);
+  }
+  return static_cast<int>(total);
+}
+
+void NeighborList::record(const BoxView& box, const Particles& p, double skin, NeighborKind kind) {
+  x0_.assign(p.x.begin(), p.x.end());
+  y0_.assign(p.y.begin(), p.y.end());
+  z0_.assign(p.z.begin(), p.z.end());
+  for (int a = 0; a < 3; ++a) len0_[a] = box.len[a];
+  rows_ = static_cast<int>(p.size());
+  skin_ = skin;
+  kind_ = kind;
+  built_ = true;
+}
+
+bool NeighborList::needs_rebuild(const BoxView& box, const Particles& p) const {
+  if (!built_ || p.size() != x0_.size()) return true;
+  const double half_skin = 0.5 * skin_;
+  for (int a = 0; a < 3; ++a)
+    if (std::fabs(box.len[a] - len0_[a]) > half_skin) return true;
+
+  const int n = static_cast<int>(p.size());
+  const double* __restrict x = p.x.data();
+  const double* __restrict y = p.y.data();
+  const double* __restrict z = p.z.data();
+  const double* __restrict x0 = x0_.data();
+  const double* __restrict y0 = y0_.data();
+  const double* __restrict z0 = z0_.data();
+  const BoxView b = box;
+  double max_d2 = 0.0;
+  DEBRIS_KERNEL_MAX(max_d2)
+  for (int i = 0; i < n; ++i) {
+    const double d2 = norm2(minimum_image(b, Vec3{x[i] - x0[i], y[i] - y0[i], z[i] - z0[i]}));
+    max_d2 = d2 > max_d2 ? d2 : max_d2;
+  }
+  return max_d2 > half_skin * half_skin;
+}
+
+std::size_t NeighborList::bytes() const {
+  return sizeof(int) * (offset_.capacity() + index_.capacity()) +
+         sizeof(double) * (x0_.capacity() + y0_.capacity() + z0_.capacity()) + cells_.bytes();
+}
+
+}  // namespace debris

@@ -1,0 +1,155 @@
+#pragma once
+// Verlet neighbour lists in compressed rows: the neighbours of particle i are
+// index()[offset()[i] .. offset()[i+1]). Built from a CellList in two kernel passes (count per row,
+// prefix sum, fill at offset[i]), so the rows are the same for any thread count and the fill needs no
+// atomics. A pair is listed when its centres are closer than cutoff(r_i, r_j) + skin; the list stays
+// valid until some particle has drifted skin/2 (needs_rebuild).
+#include <cstddef>
+#include <vector>
+
+#include "core/box.hpp"
+#include "core/cell_list.hpp"
+#include "core/exec.hpp"
+#include "core/particles.hpp"
+#include "core/vec3.hpp"
+
+namespace debris {
+
+/// full: j in row i and i in row j (pair passes that write only to i); half: each pair once, in row min(i, j).
+enum class NeighborKind { full, half };
+
+DEBRIS_DECLARE_TARGET
+
+/// Cells visited along one axis around cell c: c-1, c, c+1, wrapped on a periodic axis, clipped on a
+/// non-periodic one, each cell at most once (a 1-cell axis gives just c). Returns how many.
+inline int neighbor_stencil(int c, int nc, int periodic, int* out) {
+  int k = 0;
+  for (int d = -1; d <= 1; ++d) {
+    int cc = c + d;
+    if (periodic) {
+      cc = cc < 0 ? cc + nc : (cc >= nc ? cc - nc : cc);
+    } else if (cc < 0 || cc >= nc) {
+      continue;
+    }
+    if (k > 0 && cc == out[0]) continue;  // 1 or 2 cells on a periodic axis: c+1 wraps onto a cell already listed
+    out[k++] = cc;
+  }
+  return k;
+}
+
+/// Scans the stencil around particle i; writes its neighbours to out (when not null) in stencil order,
+/// then cell order, and returns how many there are. half != 0 keeps only j > i.
+template <class Cutoff>
+inline int neighbor_row(int i, const double* x, const double* y, const double* z, const double* r,
+                        const int* cell_of, const int* cell_start, const int* sorted, int n0, int n1, int n2,
+                        const BoxView& b, Cutoff cutoff, double skin, int half, int* out) {
+  const double xi = x[i], yi = y[i], zi = z[i], ri = r[i];
+  const int ci = cell_of[i];
+  int sx[3], sy[3], sz[3];
+  const int nsx = neighbor_stencil(ci % n0, n0, b.periodic[0], sx);
+  const int nsy = neighbor_stencil((ci / n0) % n1, n1, b.periodic[1], sy);
+  const int nsz = neighbor_stencil(ci / (n0 * n1), n2, b.periodic[2], sz);
+  int count = 0;
+  for (int a = 0; a < nsz; ++a) {
+    for (int bb = 0; bb < nsy; ++bb) {
+      for (int c = 0; c < nsx; ++c) {
+        const int cell = sx[c] + n0 * (sy[bb] + n1 * sz[a]);
+        const int end = cell_start[cell + 1];
+        for (int k = cell_start[cell]; k < end; ++k) {
+          const int j = sorted[k];
+          if (j == i || (half && j < i)) continue;
+          const Vec3 d = minimum_image(b, Vec3{xi - x[j], yi - y[j], zi - z[j]});
+          const double rc = cutoff(ri, r[j]) + skin;
+          if (norm2(d) < rc * rc) {
+            if (out) out[count] = j;
+            ++count;
+          }
+        }
+      }
+    }
+  }
+  return count;
+}
+
+DEBRIS_END_DECLARE_TARGET
+
+class NeighborList {
+ public:
+  /// Builds rows for all particles: j is a neighbour of i if |minimum_image(x_i - x_j)| < cutoff(r_i, r_j) + skin.
+  /// cutoff: any callable double(double ri, double rj), symmetric, legal in a kernel (e.g. CohesiveCutoff).
+  /// max_cutoff: upper bound of cutoff over all pairs; the cells have edge >= max_cutoff + skin.
+  /// Throws InputError: "neighbor.max_cutoff" / "neighbor.skin" for bad values or when
+  /// cutoff(r_max, r_max) > max_cutoff, "box.<axis>" when a periodic axis is shorter than
+  /// 2 (max_cutoff + skin) (minimum image would be ambiguous).
+  template <class Cutoff>
+  void build(const BoxView& box, const Particles& p, Cutoff cutoff, double max_cutoff, double skin,
+             NeighborKind kind);
+
+  /// True when the list was never built, the particle count changed, a box length changed by more than
+  /// skin/2 since the build, or some particle moved more than skin/2 (minimum image: a periodic wrap is
+  /// not a move).
+  bool needs_rebuild(const BoxView& box, const Particles& p) const;
+
+  int rows() const { return rows_; }
+  const std::vector<int>& offset() const { return offset_; }  // size rows() + 1
+  const std::vector<int>& index() const { return index_; }    // neighbour indices
+  int entries() const { return offset_.empty() ? 0 : offset_.back(); }
+  NeighborKind kind() const { return kind_; }
+  double skin() const { return skin_; }
+  const CellList& cells() const { return cells_; }
+  std::size_t bytes() const;  // memory held, cell list included
+
+ private:
+  // Non-template parts of build, in neighbor_list.cpp.
+  void check(const BoxView& box, const Particles& p, double max_cutoff, double skin, double r_max_cutoff) const;
+  int prefix_sum();  // offset_[1..n] holds row counts on entry, the exclusive prefix sum on exit; returns the total
+  void record(const BoxView& box, const Particles& p, double skin, NeighborKind kind);
+  static double max_radius(const Particles& p);
+
+  CellList cells_;
+  std::vector<int> offset_;
+  std::vector<int> index_;
+  std::vector<double> x0_, y0_, z0_;  // positions at the last build
+  double len0_[3] = {0, 0, 0};        // box lengths at the last build
+  int rows_ = 0;
+  bool built_ = false;
+  NeighborKind kind_ = NeighborKind::full;
+  double skin_ = 0;
+};
+
+template <class Cutoff>
+void NeighborList::build(const BoxView& box, const Particles& p, Cutoff cutoff, double max_cutoff, double skin,
+                         NeighborKind kind) {
+  const double r_max = max_radius(p);
+  check(box, p, max_cutoff, skin, p.size() > 0 ? cutoff(r_max, r_max) : 0.0);
+  const int n = static_cast<int>(p.size());
+  cells_.build(box, p.x.data(), p.y.data(), p.z.data(), n, max_cutoff + skin);
+  offset_.resize(static_cast<std::size_t>(n) + 1);
+
+  const double* __restrict x = p.x.data();
+  const double* __restrict y = p.y.data();
+  const double* __restrict z = p.z.data();
+  const double* __restrict r = p.radius.data();
+  const int* __restrict cell_of = cells_.cell_of().data();
+  const int* __restrict cell_start = cells_.cell_start().data();
+  const int* __restrict sorted = cells_.sorted_index().data();
+  const std::array<int, 3> dims = cells_.dims();
+  const int n0 = dims[0], n1 = dims[1], n2 = dims[2];
+  const BoxView b = box;
+  const int half = kind == NeighborKind::half ? 1 : 0;
+  int* __restrict off = offset_.data();
+
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    off[i + 1] = neighbor_row(i, x, y, z, r, cell_of, cell_start, sorted, n0, n1, n2, b, cutoff, skin, half, nullptr);
+  }
+  index_.resize(static_cast<std::size_t>(prefix_sum()));
+  int* __restrict idx = index_.data();
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    neighbor_row(i, x, y, z, r, cell_of, cell_start, sorted, n0, n1, n2, b, cutoff, skin, half, idx + off[i]);
+  }
+  record(box, p, skin, kind);
+}
+
+}  // namespace debris
