@@ -24,6 +24,7 @@
 #define DEBRIS_KERNEL_SUM3(a, b, c) \
   DEBRIS_PRAGMA(omp target teams distribute parallel for reduction(+ : a, b, c) map(tofrom : a, b, c))
 #define DEBRIS_KERNEL_MAX(v) DEBRIS_PRAGMA(omp target teams distribute parallel for reduction(max : v) map(tofrom : v))
+#define DEBRIS_KERNEL_MIN(v) DEBRIS_PRAGMA(omp target teams distribute parallel for reduction(min : v) map(tofrom : v))
 #define DEBRIS_DECLARE_TARGET DEBRIS_PRAGMA(omp declare target)
 #define DEBRIS_END_DECLARE_TARGET DEBRIS_PRAGMA(omp end declare target)
 #else
@@ -32,6 +33,7 @@
 #define DEBRIS_KERNEL_SUM2(a, b) DEBRIS_PRAGMA(omp parallel for schedule(static) reduction(+ : a, b))
 #define DEBRIS_KERNEL_SUM3(a, b, c) DEBRIS_PRAGMA(omp parallel for schedule(static) reduction(+ : a, b, c))
 #define DEBRIS_KERNEL_MAX(v) DEBRIS_PRAGMA(omp parallel for schedule(static) reduction(max : v))
+#define DEBRIS_KERNEL_MIN(v) DEBRIS_PRAGMA(omp parallel for schedule(static) reduction(min : v))
 #define DEBRIS_DECLARE_TARGET
 #define DEBRIS_END_DECLARE_TARGET
 #endif

@@ -1,0 +1,84 @@
+#include "core/contact_history.hpp"
+
+#include "core/exec.hpp"
+#include "core/neighbor_list.hpp"
+#include "core/particles.hpp"
+
+namespace debris {
+
+void ContactHistory::reset(const NeighborList& list) {
+  const std::size_t m = static_cast<std::size_t>(list.entries());
+  hx.assign(m, 0.0);
+  hy.assign(m, 0.0);
+  hz.assign(m, 0.0);
+}
+
+void ContactHistory::remember(const Particles& p, const NeighborList& list) {
+  const int n = list.rows();
+  old_offset_ = list.offset();
+  old_partner_.resize(static_cast<std::size_t>(list.entries()));
+  old_row_of_id_.assign(static_cast<std::size_t>(p.max_id() + 1), -1);
+  const int* offset = list.offset().data();
+  const int* index = list.index().data();
+  const std::int64_t* id = p.id.data();
+  std::int64_t* partner = old_partner_.data();
+  int* row_of_id = old_row_of_id_.data();
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    row_of_id[id[i]] = i;
+    for (int k = offset[i]; k < offset[i + 1]; ++k) partner[k] = id[index[k]];
+  }
+  old_hx_.swap(hx);
+  old_hy_.swap(hy);
+  old_hz_.swap(hz);
+}
+
+void ContactHistory::carry_over(const Particles& p, const NeighborList& list) {
+  reset(list);
+  if (old_offset_.empty()) return;
+  const int n = list.rows();
+  const int* offset = list.offset().data();
+  const int* index = list.index().data();
+  const std::int64_t* id = p.id.data();
+  const int* old_offset = old_offset_.data();
+  const std::int64_t* old_partner = old_partner_.data();
+  const int* row_of_id = old_row_of_id_.data();
+  const int known_ids = static_cast<int>(old_row_of_id_.size());
+  const double *ohx = old_hx_.data(), *ohy = old_hy_.data(), *ohz = old_hz_.data();
+  double *nhx = hx.data(), *nhy = hy.data(), *nhz = hz.data();
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    if (id[i] >= known_ids) continue;  // a particle added since: no history yet
+    const int r = row_of_id[id[i]];
+    if (r < 0) continue;
+    for (int k = offset[i]; k < offset[i + 1]; ++k) {
+      const std::int64_t q = id[index[k]];
+      for (int o = old_offset[r]; o < old_offset[r + 1]; ++o) {
+        if (old_partner[o] == q) {
+          nhx[k] = ohx[o];
+          nhy[k] = ohy[o];
+          nhz[k] = ohz[o];
+          break;
+        }
+      }
+    }
+  }
+}
+
+bool ContactHistory::find(const Particles& p, const NeighborList& list, std::int64_t id_i, std::int64_t id_j,
+                          double out[3]) const {
+  for (int i = 0; i < list.rows(); ++i) {
+    if (p.id[static_cast<std::size_t>(i)] != id_i) continue;
+    for (int k = list.offset()[i]; k < list.offset()[i + 1]; ++k) {
+      if (p.id[static_cast<std::size_t>(list.index()[k])] == id_j) {
+        out[0] = hx[k];
+        out[1] = hy[k];
+        out[2] = hz[k];
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+}  // namespace debris

@@ -1,0 +1,39 @@
+#pragma once
+// Per-contact state stored beside the neighbour entries (one Vec3 per entry of a full list: the
+// tangential spring of the cohesive model). When the list is rebuilt, or the particles are re-sorted,
+// every pair still in the list gets its state back by the pair of permanent ids, whatever its indices
+// became: pairs in tension included (the author's LAMMPS version loses those at every rebuild).
+#include <cstdint>
+#include <vector>
+
+namespace debris {
+
+class Particles;
+class NeighborList;
+
+class ContactHistory {
+ public:
+  std::vector<double> hx, hy, hz;  // one value per neighbour entry
+
+  /// Sizes the state for a freshly built list, all zero.
+  void reset(const NeighborList& list);
+
+  /// Remembers who is paired with whom (by permanent id) before a rebuild or re-sort.
+  void remember(const Particles& p, const NeighborList& list);
+
+  /// After the rebuild: looks up each new entry (id_i, id_j) in the remembered rows and copies its state.
+  void carry_over(const Particles& p, const NeighborList& list);
+
+  /// State of the pair (id_i, id_j) as seen from id_i, or nullptr-equivalent false if absent.
+  bool find(const Particles& p, const NeighborList& list, std::int64_t id_i, std::int64_t id_j, double out[3]) const;
+
+  std::size_t bytes() const { return 3 * sizeof(double) * hx.capacity(); }
+
+ private:
+  std::vector<int> old_offset_;
+  std::vector<std::int64_t> old_partner_;
+  std::vector<int> old_row_of_id_;
+  std::vector<double> old_hx_, old_hy_, old_hz_;
+};
+
+}  // namespace debris
