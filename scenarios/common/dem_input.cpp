@@ -1,0 +1,244 @@
+#include "scenarios/common/dem_input.hpp"
+
+#include <cmath>
+#include <algorithm>
+#include <filesystem>
+#include <limits>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/io/input.hpp"
+#include "core/io/lammps_data.hpp"
+#include "core/lattice.hpp"
+
+namespace debris {
+
+namespace {
+
+using units::Dimension;
+
+std::string num(double v) {
+  std::ostringstream os;
+  os.precision(10);
+  os << v;
+  return os.str();
+}
+
+int axis_of(const InputNode& n, const std::string& key, const std::string& fallback) {
+  const std::string a = n.choice(key, {"x", "y", "z"}, fallback);
+  return a == "x" ? 0 : (a == "y" ? 1 : 2);
+}
+
+CohesiveMaterial read_material(const InputNode& m) {
+  CohesiveMaterial mat;
+  mat.youngs_modulus = m.quantity("youngs_modulus", units::pressure);
+  mat.poisson_ratio = m.quantity("poisson_ratio", units::dimensionless);
+  mat.tensile_strength = m.quantity("tensile_strength", units::pressure);
+  mat.shear_strength = m.quantity("shear_strength", units::pressure);
+  mat.surface_energy = m.quantity("surface_energy", units::surface_energy);
+  mat.restitution = m.quantity("restitution", units::dimensionless);
+  mat.density = m.quantity("density", units::density);
+  mat.scaling = m.quantity("scaling", units::dimensionless, 0.0);
+  mat.validate("material");
+  return mat;
+}
+
+LatticeSpec read_lattice(const InputNode& l) {
+  LatticeSpec spec;
+  spec.kind = l.choice("kind", {"fcc", "hcp"}) == "fcc" ? LatticeKind::fcc : LatticeKind::hcp;
+  spec.spacing = l.quantity("spacing", units::length);
+  spec.diameter = l.quantity("diameter", units::length, spec.spacing);
+  spec.size_spread = l.quantity("size_spread", units::dimensionless, 0.0);
+  spec.displacement = l.quantity("displacement", units::length, 0.0);
+  const std::vector<InputNode> cells = l.list("cells");
+  if (cells.size() != 3) throw input_error(l.path() + ".cells", std::to_string(cells.size()) + " values", "give [nx, ny, nz]");
+  for (int a = 0; a < 3; ++a) {
+    const double c = cells[static_cast<std::size_t>(a)].quantity(units::dimensionless);
+    if (c != std::floor(c) || c < 1 || c > 1e6)
+      throw input_error(l.path() + ".cells", num(c), "cell counts must be whole numbers >= 1");
+    spec.cells[static_cast<std::size_t>(a)] = static_cast<int>(c);
+  }
+  spec.origin = l.vec3("origin", units::length, Vec3{0, 0, 0});
+  spec.seed = static_cast<std::uint64_t>(l.integer("seed", 1));
+  spec.hcp_c_axis = axis_of(l, "hcp_c_axis", "y");
+  validate(spec, l.path());
+  return spec;
+}
+
+std::array<bool, 3> read_periodic(const InputNode& b) {
+  std::array<bool, 3> periodic{false, false, false};
+  if (!b.has("periodic")) return periodic;
+  const std::vector<InputNode> p = b.list("periodic");
+  if (p.size() != 3) throw input_error(b.path() + ".periodic", std::to_string(p.size()) + " values", "give [x, y, z] as true/false");
+  for (std::size_t a = 0; a < 3; ++a) {
+    const std::string t = p[a].text();
+    if (t == "true" || t == "yes") periodic[a] = true;
+    else if (t == "false" || t == "no") periodic[a] = false;
+    else throw input_error(p[a].path(), t, "must be true or false");
+  }
+  return periodic;
+}
+
+// A region bound: a quantity, or -inf/inf (also min/max) for an open side.
+double read_bound(const InputNode& n) {
+  const std::string t = n.text();
+  if (t == "-inf" || t == "min") return -std::numeric_limits<double>::infinity();
+  if (t == "inf" || t == "+inf" || t == "max") return std::numeric_limits<double>::infinity();
+  return n.quantity(units::length);
+}
+
+void read_groups(const InputNode& root, DemRunConfig& cfg) {
+  if (!root.has("groups")) return;
+  for (const InputNode& g : root.list("groups")) {
+    Group group;
+    group.name = g.string("name");
+    const std::string motion = g.choice("motion", {"free", "frozen", "velocity", "force"}, "free");
+    group.motion = motion == "free"     ? GroupMotion::free
+                   : motion == "frozen" ? GroupMotion::frozen
+                   : motion == "velocity" ? GroupMotion::velocity
+                                          : GroupMotion::force;
+    if (group.motion == GroupMotion::velocity) group.velocity = g.vec3("velocity", units::velocity);
+    if (group.motion == GroupMotion::force) {
+      const bool has_force = g.has("force"), has_stress = g.has("stress");
+      if (has_force == has_stress)
+        throw input_error(g.path() + ".force", has_force ? "both force and stress" : "neither",
+                          "a force group needs exactly one of 'force' (a vector) or 'stress' (a traction vector)");
+      if (has_force) {
+        group.external_force = g.vec3("force", units::force);
+      } else {
+        const Vec3 t = g.vec3("stress", units::pressure);
+        const double comps[3] = {std::abs(t.x), std::abs(t.y), std::abs(t.z)};
+        const int largest = comps[0] >= comps[1] && comps[0] >= comps[2] ? 0 : (comps[1] >= comps[2] ? 1 : 2);
+        const int normal = axis_of(g, "area_normal", std::string(1, "xyz"[largest]));
+        double area = 1.0;
+        for (int a = 0; a < 3; ++a)
+          if (a != normal) area *= cfg.box.length(a);
+        group.external_force = area * t;
+      }
+      group.velocity = g.vec3("initial_velocity", units::velocity, Vec3{});
+    }
+    // Membership: a block region, particle types, or explicit ids (any combination narrows it down).
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    double lo[3] = {-inf, -inf, -inf}, hi[3] = {inf, inf, inf};
+    bool any_rule = false;
+    if (g.has("region")) {
+      any_rule = true;
+      const InputNode r = g.child("region");
+      for (int a = 0; a < 3; ++a) {
+        const std::string ax(1, "xyz"[a]);
+        if (!r.has(ax)) continue;
+        const std::vector<InputNode> b = r.list(ax);
+        if (b.size() != 2) throw input_error(r.path() + "." + ax, std::to_string(b.size()) + " values", "give [lo, hi]");
+        lo[a] = read_bound(b[0]);
+        hi[a] = read_bound(b[1]);
+        if (!(hi[a] > lo[a])) throw input_error(r.path() + "." + ax, "[" + num(lo[a]) + ", " + num(hi[a]) + "]", "hi must exceed lo");
+      }
+    }
+    std::vector<long> types, ids;
+    if (g.has("types")) {
+      any_rule = true;
+      for (const InputNode& t : g.list("types")) types.push_back(static_cast<long>(t.quantity(units::dimensionless)));
+    }
+    if (g.has("ids")) {
+      any_rule = true;
+      for (const InputNode& t : g.list("ids")) ids.push_back(static_cast<long>(t.quantity(units::dimensionless)));
+    }
+    if (!any_rule)
+      throw input_error(g.path(), group.name, "a group needs a 'region', 'types' or 'ids' to choose its members");
+    const int index = cfg.groups.add(group);
+    Particles& p = cfg.particles;
+    long members = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const double c[3] = {p.x[i], p.y[i], p.z[i]};
+      bool in = true;
+      for (int a = 0; a < 3; ++a) in = in && c[a] >= lo[a] && c[a] < hi[a];
+      if (!types.empty()) in = in && std::find(types.begin(), types.end(), p.type[i]) != types.end();
+      if (!ids.empty()) in = in && std::find(ids.begin(), ids.end(), p.id[i]) != ids.end();
+      if (!in) continue;
+      if (p.group[i] >= 0 && p.group[i] != index)
+        throw input_error(g.path() + ".name", group.name,
+                          "particle id " + std::to_string(p.id[i]) + " is already in group '" +
+                              cfg.groups.list[static_cast<std::size_t>(p.group[i])].name + "' (a particle moves with one group)");
+      p.group[i] = index;
+      ++members;
+    }
+    if (members == 0) throw input_error(g.path() + ".name", group.name, "the group selects no particle");
+  }
+}
+
+}  // namespace
+
+DemRunConfig read_dem_input(const std::string& path) {
+  const InputNode root = InputNode::load_file(path);
+  return read_dem_input(root, std::filesystem::path(path).parent_path().string());
+}
+
+DemRunConfig read_dem_input(const InputNode& root, const std::string& base_directory) {
+  DemRunConfig cfg;
+  cfg.settings.material = read_material(root.child("material"));
+
+  // Particles: a built-in lattice or a LAMMPS data file (atom_style sphere).
+  const InputNode parts = root.child("particles");
+  const bool has_lattice = parts.has("lattice"), has_data = parts.has("lammps_data");
+  if (has_lattice == has_data)
+    throw input_error("particles", has_lattice ? "lattice and lammps_data" : "nothing",
+                      "give exactly one of 'lattice' or 'lammps_data'");
+  const InputNode box_node = root.has("box") ? root.child("box") : InputNode::load_string("{}", "box");
+  const std::array<bool, 3> periodic = read_periodic(box_node);
+  bool masses_given = false;
+  if (has_lattice) {
+    Lattice lat = make_lattice(read_lattice(parts.child("lattice")));
+    cfg.particles = std::move(lat.particles);
+    cfg.box = Box(lat.box.lo(), lat.box.hi(), periodic);
+  } else {
+    std::filesystem::path file = parts.string("lammps_data");
+    if (file.is_relative() && !base_directory.empty()) file = std::filesystem::path(base_directory) / file;
+    LammpsData data = read_lammps_data(file.string(), periodic);
+    cfg.particles = std::move(data.particles);
+    cfg.box = Box(data.box.lo(), data.box.hi(), periodic);
+    masses_given = parts.boolean("masses_from_file", false);
+  }
+  if (box_node.has("lo") || box_node.has("hi")) {
+    cfg.box = Box(box_node.vec3("lo", units::length, cfg.box.lo()), box_node.vec3("hi", units::length, cfg.box.hi()),
+                  periodic);
+  }
+  read_groups(root, cfg);
+
+  // Run control.
+  const InputNode run = root.child("run");
+  cfg.steps = run.integer("steps");
+  if (cfg.steps < 0) throw input_error("run.steps", std::to_string(cfg.steps), "must be >= 0");
+  DemSettings& s = cfg.settings;
+  if (run.has("time_step") && run.has("time_step_fraction"))
+    throw input_error("run.time_step", "given with time_step_fraction", "give one of time_step (absolute) or time_step_fraction (of dt_c)");
+  s.time_step = run.quantity("time_step", units::time, 0.0);
+  if (run.has("time_step") && !(s.time_step > 0.0)) throw input_error("run.time_step", num(s.time_step), "must be > 0");
+  s.time_step_fraction = run.quantity("time_step_fraction", units::dimensionless, 0.1);
+  if (!(s.time_step_fraction > 0.0))
+    throw input_error("run.time_step_fraction", num(s.time_step_fraction), "must be > 0 (a fraction of dt_c, eq 6)");
+  s.allow_unstable_time_step = run.boolean("allow_unstable_time_step", false);
+  s.global_damping = run.quantity("global_damping", units::dimensionless, 0.0);
+  if (!(s.global_damping >= 0.0)) throw input_error("run.global_damping", num(s.global_damping), "must be >= 0 (a fraction of c_c, eq 21)");
+  s.skin = run.quantity("skin", units::length, 0.0);
+  if (s.skin < 0.0) throw input_error("run.skin", num(s.skin), "must be >= 0");
+  s.options.adhesive = run.boolean("adhesive", true) ? 1 : 0;
+  s.options.tangential = run.boolean("tangential", true) ? 1 : 0;
+  s.masses_from_density = !masses_given;
+  cfg.threads = static_cast<int>(run.integer("threads", 0));
+  if (cfg.threads < 0) throw input_error("run.threads", std::to_string(cfg.threads), "must be >= 0");
+
+  if (root.has("output")) {
+    const InputNode out = root.child("output");
+    cfg.output.directory = out.string("directory", cfg.output.directory);
+    cfg.output.thermo_every = out.integer("thermo_every", cfg.output.thermo_every);
+    cfg.output.dump_every = out.integer("dump_every", cfg.output.dump_every);
+    if (cfg.output.thermo_every < 1)
+      throw input_error("output.thermo_every", std::to_string(cfg.output.thermo_every), "must be >= 1");
+    if (cfg.output.dump_every < 0)
+      throw input_error("output.dump_every", std::to_string(cfg.output.dump_every), "must be >= 0");
+  }
+  root.reject_unknown_keys();
+  return cfg;
+}
+
+}  // namespace debris

@@ -1,0 +1,170 @@
+#include "scenarios/common/dem_simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/error.hpp"
+#include "kernels/integrate.hpp"
+
+namespace debris {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+std::string num(double v) {
+  std::ostringstream os;
+  os << std::setprecision(10) << v;
+  return os.str();
+}
+}  // namespace
+
+DemSimulation::DemSimulation(Box box, Particles particles, Groups groups, DemSettings settings)
+    : box_(std::move(box)), p_(std::move(particles)), groups_(std::move(groups)), settings_(std::move(settings)) {
+  setup();
+}
+
+void DemSimulation::setup() {
+  coef_ = CohesiveCoefficients::from(settings_.material);
+  if (p_.size() == 0) throw input_error("particles", "none", "the system has no particle");
+  p_.check_ids();
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    const double r = p_.radius[i];
+    if (!(r > 0.0) || !std::isfinite(r))
+      throw input_error("particles.radius", num(r), "radius of particle id " + std::to_string(p_.id[i]) + " must be > 0");
+    for (double c : {p_.x[i], p_.y[i], p_.z[i]})
+      if (!std::isfinite(c))
+        throw input_error("particles.position", num(c), "particle id " + std::to_string(p_.id[i]) + " has a non-finite coordinate");
+  }
+  if (settings_.masses_from_density) p_.set_mass_from_density(settings_.material.density);
+  groups_.refresh_members(p_);
+  // Members of frozen and rigid groups start with their group's motion, not with whatever the input said.
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    const int g = p_.group[i];
+    if (g < 0 || groups_.list[static_cast<std::size_t>(g)].motion == GroupMotion::free) continue;
+    const Vec3 v = groups_.list[static_cast<std::size_t>(g)].velocity;
+    const bool frozen = groups_.list[static_cast<std::size_t>(g)].motion == GroupMotion::frozen;
+    p_.vx[i] = frozen ? 0.0 : v.x;
+    p_.vy[i] = frozen ? 0.0 : v.y;
+    p_.vz[i] = frozen ? 0.0 : v.z;
+    p_.wx[i] = p_.wy[i] = p_.wz[i] = 0.0;
+  }
+
+  // Time step against eq 6, damping against eq 21, both for the most restrictive particle.
+  limits_ = stability_limits(coef_, p_);
+  if (settings_.time_step > 0.0) {
+    dt_ = settings_.time_step;
+  } else {
+    if (!(settings_.time_step_fraction > 0.0))
+      throw input_error("run.time_step_fraction", num(settings_.time_step_fraction), "must be > 0");
+    dt_ = settings_.time_step_fraction * limits_.dt_c;
+  }
+  if (!std::isfinite(dt_) || dt_ <= 0.0) throw input_error("run.time_step", num(dt_), "must be > 0");
+  if (dt_ > limits_.dt_c && !settings_.allow_unstable_time_step)
+    throw input_error("run.time_step", num(dt_),
+                      "exceeds the critical time step dt_c = " + num(limits_.dt_c) +
+                          " of eq 6 (semi-implicit Euler diverges above it); use a fraction of dt_c, or set "
+                          "run.allow_unstable_time_step: true to insist");
+  set_global_damping(settings_.global_damping);
+
+  // Neighbour cutoff: delta_f grows with r_i + r_j, so the largest pair bounds it.
+  const double r_max = *std::max_element(p_.radius.begin(), p_.radius.end());
+  const double r_min = *std::min_element(p_.radius.begin(), p_.radius.end());
+  max_cutoff_ = CohesiveCutoff{coef_}(r_max, r_max);
+  skin_ = settings_.skin > 0.0 ? settings_.skin : 0.2 * r_min;
+  if (settings_.skin < 0.0) throw input_error("run.skin", num(settings_.skin), "must be >= 0");
+
+  rebuild_neighbors();
+  compute_forces(0);
+}
+
+void DemSimulation::set_global_damping(double fraction) {
+  if (!(fraction >= 0.0) || !std::isfinite(fraction))
+    throw input_error("run.global_damping", num(fraction), "must be a fraction >= 0 of the critical damping");
+  settings_.global_damping = fraction;
+  damping_ = fraction * limits_.c_c;
+}
+
+void DemSimulation::rebuild_neighbors() { rebuild(nullptr); }
+
+void DemSimulation::reorder(const std::vector<int>& order) {
+  if (order.size() != p_.size()) throw std::invalid_argument("reorder: order has the wrong size");
+  rebuild(&order);
+}
+
+void DemSimulation::rebuild(const std::vector<int>* order) {
+  const auto t0 = Clock::now();
+  if (list_.rows() > 0) history_.remember(p_, list_);
+  box_.wrap(p_);
+  if (order) {
+    p_.permute(*order);
+  } else if (settings_.sort_by_cell) {
+    sorter_.build(box_.view(), p_.x.data(), p_.y.data(), p_.z.data(), static_cast<int>(p_.size()),
+                  max_cutoff_ + skin_);
+    p_.permute(sorter_.sort_order());
+  }
+  list_.build(box_.view(), p_, CohesiveCutoff{coef_}, max_cutoff_, skin_, NeighborKind::full);
+  history_.carry_over(p_, list_);
+  ++times_.rebuilds;
+  times_.neighbours += seconds_since(t0);
+}
+
+void DemSimulation::compute_forces(int update_history) {
+  auto t0 = Clock::now();
+  zero_forces(p_);
+  cohesive_contact_pass(coef_, settings_.options, box_.view(), p_, list_, history_, dt_, update_history);
+  times_.contact += seconds_since(t0);
+  t0 = Clock::now();
+  groups_.measure_reactions(p_);
+  global_damping_pass(p_, groups_.view(), damping_);
+  times_.other += seconds_since(t0);
+}
+
+void DemSimulation::recompute_forces() { compute_forces(0); }
+
+void DemSimulation::step() {
+  auto t0 = Clock::now();
+  groups_.kick_rigid(dt_);
+  integrate_semi_implicit_euler(p_, groups_.view(), dt_);
+  groups_.accumulate_displacements(p_, dt_);
+  ++step_;
+  time_ += dt_;
+  times_.integration += seconds_since(t0);
+
+  t0 = Clock::now();
+  const bool rebuild = list_.needs_rebuild(box_.view(), p_);
+  times_.neighbours += seconds_since(t0);
+  if (rebuild) rebuild_neighbors();
+  compute_forces(1);
+}
+
+void DemSimulation::run(long steps) {
+  for (long s = 0; s < steps; ++s) step();
+}
+
+CohesiveDiagnostics DemSimulation::diagnostics() const {
+  return cohesive_diagnostics(coef_, settings_.options, box_.view(), p_, list_, history_);
+}
+
+std::string DemSimulation::summary() const {
+  const std::size_t i = static_cast<std::size_t>(limits_.particle);
+  const CohesivePairParams pp = cohesive_pair_params(coef_, p_.radius[i], p_.radius[i], p_.mass[i], p_.mass[i]);
+  std::ostringstream os;
+  os << std::setprecision(6);
+  os << "particles " << p_.size() << ", groups " << groups_.size() << "\n"
+     << "material: d_min = " << settings_.material.minimum_diameter()
+     << " (eq 19), d_c = " << settings_.material.critical_diameter() << " (eq 18)\n"
+     << "smallest pair (d = " << 2 * p_.radius[i] << "): k_N = " << pp.k_n << ", k_T = " << pp.k_t
+     << ", delta_e = " << pp.delta_e << ", delta_f = " << pp.delta_f << ", F_mT = " << pp.f_max_t
+     << ", c_N = " << pp.c_n << ", c_T = " << pp.c_t << "\n"
+     << "critical time step dt_c = " << limits_.dt_c << " (eq 6), dt = " << dt_ << " = " << dt_ / limits_.dt_c
+     << " dt_c\n"
+     << "critical damping c_c = " << limits_.c_c << " (eq 21), global damping c = " << damping_ << " = "
+     << settings_.global_damping << " c_c\n"
+     << "neighbour cutoff <= " << max_cutoff_ << " + skin " << skin_;
+  return os.str();
+}
+
+}  // namespace debris

@@ -1,0 +1,108 @@
+#pragma once
+// The cohesive DEM step loop, assembled once from the passes of kernels/ (shared/DESIGN.md):
+//
+//   kick rigid groups -> integrate (eq 1) -> neighbours if needed (wrap, sort by cell, rebuild, carry the
+//   contact history) -> zero forces -> cohesive contact (eqs 2-5) -> group reactions -> global damping
+//
+// Forces at step n use x_n and v_n, so the semi-implicit Euler of eq 1 is v_{n+1} = v_n + F_n/m dt,
+// x_{n+1} = x_n + v_{n+1} dt.
+#include <chrono>
+#include <string>
+
+#include "core/box.hpp"
+#include "core/contact_history.hpp"
+#include "core/cell_list.hpp"
+#include "core/groups.hpp"
+#include "core/neighbor_list.hpp"
+#include "core/particles.hpp"
+#include "kernels/cohesive_contact.hpp"
+#include "kernels/cohesive_material.hpp"
+
+namespace debris {
+
+struct DemSettings {
+  CohesiveMaterial material;
+  CohesiveOptions options;
+  // Time step: an absolute value (> 0) or, when time_step is 0, a fraction of the critical one (eq 6).
+  double time_step = 0.0;
+  double time_step_fraction = 0.1;
+  bool allow_unstable_time_step = false;  // the user insists on a step above the critical one
+  double global_damping = 0.0;            // fraction of the critical damping c_c of eq 21
+  double skin = 0.0;                      // Verlet skin; 0 = 10% of the smallest diameter
+  bool sort_by_cell = true;               // re-sort particles in memory at each rebuild (ids are kept)
+  bool masses_from_density = true;        // set m = rho 4/3 pi r^3 at set-up (false: keep the given masses)
+};
+
+/// Accumulated wall time per pass.
+struct PassTimes {
+  double neighbours = 0, contact = 0, integration = 0, other = 0;
+  long rebuilds = 0;
+};
+
+class DemSimulation {
+ public:
+  DemSimulation(Box box, Particles particles, Groups groups, DemSettings settings);
+
+  /// Validates particles and time step (InputError on bad input), builds the neighbour list and
+  /// evaluates the forces at step 0. Called by the constructor.
+  void setup();
+
+  void step();
+  void run(long steps);
+
+  // State.
+  const Box& box() const { return box_; }
+  Box& box() { return box_; }
+  const Particles& particles() const { return p_; }
+  Particles& particles() { return p_; }
+  Groups& groups() { return groups_; }
+  const Groups& groups() const { return groups_; }
+  const NeighborList& neighbors() const { return list_; }
+  const ContactHistory& history() const { return history_; }
+  const DemSettings& settings() const { return settings_; }
+  const CohesiveCoefficients& coefficients() const { return coef_; }
+  long step_count() const { return step_; }
+  double time() const { return time_; }
+  double dt() const { return dt_; }
+  const StabilityLimits& limits() const { return limits_; }
+  double damping_coefficient() const { return damping_; }
+  double skin() const { return skin_; }
+  double max_cutoff() const { return max_cutoff_; }
+  const PassTimes& times() const { return times_; }
+
+  /// Forces a neighbour rebuild (with re-sort and history carry-over) now, as if particles had drifted.
+  void rebuild_neighbors();
+  /// Stores the particles in the given order (new index i holds old index order[i]) instead of by cell,
+  /// rebuilding the list and carrying the history over; ids, physics and history are unchanged.
+  void reorder(const std::vector<int>& order);
+  /// Re-evaluates forces at the current state without advancing the history (after host-side edits).
+  void recompute_forces();
+  /// Changes the global damping fraction (relaxation phases).
+  void set_global_damping(double fraction);
+
+  /// Elastic energy, max overlap and interacting pairs at the current state.
+  CohesiveDiagnostics diagnostics() const;
+
+  /// One-paragraph summary: N, dt and dt_c, c_c, skin, cutoff, calibration of the smallest pair.
+  std::string summary() const;
+
+ private:
+  void compute_forces(int update_history);
+  void rebuild(const std::vector<int>* order);
+
+  Box box_;
+  Particles p_;
+  Groups groups_;
+  DemSettings settings_;
+  CohesiveCoefficients coef_{};
+  StabilityLimits limits_{};
+  NeighborList list_;
+  CellList sorter_;
+  ContactHistory history_;
+  double dt_ = 0, damping_ = 0, skin_ = 0, max_cutoff_ = 0;
+  long step_ = 0;
+  double time_ = 0;
+  PassTimes times_;
+};
+
+}  // namespace debris

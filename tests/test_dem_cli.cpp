@@ -1,0 +1,212 @@
+// debris_dem from the command line: each bad input ends with a message naming the key and the value and a
+// non-zero exit, before anything is written (earlier results in the output directory survive); the default
+// input runs and writes its thermo CSV and dump.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int exit_code;
+  std::string output;  // stdout and stderr
+};
+
+Result run_dem(const std::string& args) {
+  const std::string cmd = std::string(DEBRIS_DEM_EXECUTABLE) + " " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf{};
+  while (pipe && fgets(buf.data(), buf.size(), pipe)) out += buf.data();
+  const int status = pipe ? pclose(pipe) : -1;
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::path(::testing::TempDir()) / ("debris_cli_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+// A small valid input; `edit` replaces one line to make it bad.
+std::string small_input(const std::string& out_dir) {
+  return R"(material:
+  youngs_modulus: 1
+  poisson_ratio: 0.15
+  tensile_strength: 0.2
+  shear_strength: 0.1
+  surface_energy: 1.5
+  restitution: 0.95
+  density: 1
+particles:
+  lattice:
+    kind: fcc
+    spacing: 100
+    diameter: 100
+    cells: [3, 3, 3]
+box:
+  periodic: [true, true, true]
+run:
+  steps: 20
+  time_step_fraction: 0.1
+output:
+  directory: )" + out_dir + R"(
+  thermo_every: 10
+  dump_every: 10
+)";
+}
+
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+  const auto pos = text.find(from);
+  EXPECT_NE(pos, std::string::npos) << from;
+  if (pos != std::string::npos) text.replace(pos, from.size(), to);
+  return text;
+}
+
+fs::path write(const fs::path& dir, const std::string& name, const std::string& text) {
+  std::ofstream(dir / name) << text;
+  return dir / name;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+class DemCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir = scratch(::testing::UnitTest::GetInstance()->current_test_info()->name());
+    out = dir / "out";
+    // A good run first: its results must survive every bad run pointed at the same directory.
+    const Result ok = run_dem("-i " + write(dir, "good.yaml", small_input(out.string())).string());
+    ASSERT_EQ(ok.exit_code, 0) << ok.output;
+    thermo_before = slurp(out / "thermo.csv");
+    ASSERT_FALSE(thermo_before.empty());
+  }
+  void expect_rejected(const std::string& yaml, const std::vector<std::string>& must_mention) {
+    const Result r = run_dem("-i " + write(dir, "bad.yaml", yaml).string());
+    EXPECT_NE(r.exit_code, 0) << r.output;
+    for (const std::string& m : must_mention) EXPECT_NE(r.output.find(m), std::string::npos) << "no '" << m << "' in:\n" << r.output;
+    EXPECT_EQ(slurp(out / "thermo.csv"), thermo_before) << "a bad input overwrote earlier results";
+  }
+  fs::path dir, out;
+  std::string thermo_before;
+};
+
+TEST_F(DemCli, GoodInputWritesThermoAndDump) {
+  EXPECT_NE(thermo_before.find("step,time,kinetic_energy,elastic_energy"), std::string::npos);
+  const std::string dump = slurp(out / "dump.lammpstrj");
+  EXPECT_NE(dump.find("ITEM: ATOMS id type x y z radius vx vy vz fx fy fz"), std::string::npos);
+  EXPECT_NE(dump.find("ITEM: BOX BOUNDS pp pp pp"), std::string::npos);
+}
+
+TEST_F(DemCli, PoissonRatioAboveQuarter) {
+  expect_rejected(replace(small_input(out.string()), "poisson_ratio: 0.15", "poisson_ratio: 0.3"),
+                  {"material.poisson_ratio", "0.3", "0.25"});
+}
+
+TEST_F(DemCli, NegativeDiameter) {
+  expect_rejected(replace(small_input(out.string()), "    diameter: 100", "    diameter: -100"), {"diameter", "-100"});
+}
+
+TEST_F(DemCli, NegativeRadiusInDataFile) {
+  write(dir, "bad.data",
+        "LAMMPS data\n\n2 atoms\n1 atom types\n0 400 xlo xhi\n0 400 ylo yhi\n0 400 zlo zhi\n\nAtoms # sphere\n\n"
+        "1 1 100 1 100 100 100\n2 1 -100 1 200 100 100\n");
+  std::string yaml = small_input(out.string());
+  yaml = replace(yaml, R"(  lattice:
+    kind: fcc
+    spacing: 100
+    diameter: 100
+    cells: [3, 3, 3]
+)", "  lammps_data: bad.data\n");
+  yaml = replace(yaml, "periodic: [true, true, true]", "periodic: [false, false, false]");
+  expect_rejected(yaml, {"diameter", "-100", "bad.data"});
+}
+
+TEST_F(DemCli, TimeStepAboveCritical) {
+  expect_rejected(replace(small_input(out.string()), "time_step_fraction: 0.1", "time_step: 200"),
+                  {"run.time_step", "200", "critical time step", "143.99"});
+}
+
+TEST_F(DemCli, TimeStepAboveCriticalAcceptedWhenInsisting) {
+  std::string yaml = replace(small_input(out.string()), "time_step_fraction: 0.1",
+                             "time_step: 150\n  allow_unstable_time_step: true");
+  yaml = replace(yaml, "steps: 20", "steps: 2");
+  const Result r = run_dem("-i " + write(dir, "insist.yaml", yaml).string() + " -o " + (dir / "insist").string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+TEST_F(DemCli, MissingInputFile) {
+  const Result r = run_dem("-i " + (dir / "no_such_file.yaml").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("no_such_file.yaml"), std::string::npos) << r.output;
+}
+
+TEST_F(DemCli, MissingDataFile) {
+  std::string yaml = replace(small_input(out.string()), R"(  lattice:
+    kind: fcc
+    spacing: 100
+    diameter: 100
+    cells: [3, 3, 3]
+)", "  lammps_data: missing.data\n");
+  expect_rejected(yaml, {"missing.data"});
+}
+
+TEST_F(DemCli, MalformedYaml) {
+  expect_rejected(replace(small_input(out.string()), "  density: 1\n", "  density: [1\n"), {"line"});
+}
+
+TEST_F(DemCli, UnknownKey) {
+  expect_rejected(replace(small_input(out.string()), "youngs_modulus: 1", "youngs_modulus: 1\n  youngs_modulu: 2"),
+                  {"material.youngs_modulu", "unknown key"});
+}
+
+TEST_F(DemCli, WrongUnit) {
+  expect_rejected(replace(small_input(out.string()), "youngs_modulus: 1", "youngs_modulus: 73 nm"),
+                  {"material.youngs_modulus", "73 nm"});
+}
+
+TEST_F(DemCli, NotANumber) {
+  expect_rejected(replace(small_input(out.string()), "restitution: 0.95", "restitution: high"),
+                  {"material.restitution", "high"});
+}
+
+TEST(DemCliHelp, HelpListsOptions) {
+  const Result r = run_dem("--help");
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* opt : {"--input", "--output", "--threads"}) EXPECT_NE(r.output.find(opt), std::string::npos) << opt;
+}
+
+TEST(DemCliDefault, DefaultInputRuns) {
+  const fs::path d = scratch("default");
+  const Result r = run_dem("-i " + std::string(DEBRIS_SOURCE_DIR) + "/scenarios/dem/default.yaml -o " + d.string() +
+                           " --threads 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("critical time step"), std::string::npos);
+  // The loaded top wall ends in equilibrium: its reaction balances the applied 0.01 x (1000 x 866.03).
+  const std::string thermo = slurp(d / "thermo.csv");
+  const std::string last = thermo.substr(thermo.rfind('\n', thermo.size() - 2) + 1);
+  std::vector<double> v;
+  std::stringstream ss(last);
+  for (std::string cell; std::getline(ss, cell, ',');) v.push_back(std::stod(cell));
+  ASSERT_EQ(v.size(), 18u);
+  const double applied = 0.01 * 1000.0 * 5 * 100 * std::sqrt(3.0);
+  EXPECT_NEAR(v[13], applied, 1e-6 * applied);  // top_fy
+  EXPECT_NEAR(v[7], -applied, 1e-6 * applied);  // bottom_fy
+  EXPECT_LT(v[16], -5.0);                       // top_dy: compressed
+}
+
+}  // namespace
