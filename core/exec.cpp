@@ -41,21 +41,25 @@ const char* bytes_of(const void* p) { return static_cast<const char*>(p); }
 void device_enter(const void* p, std::size_t bytes) {
   if (!p || bytes == 0) return;
   const char* c = bytes_of(p);
+  (void)c;  // used only inside the pragma, which -Wunused-variable does not see
   DEBRIS_PRAGMA(omp target enter data map(to : c[0 : bytes]))
 }
 void device_exit(const void* p, std::size_t bytes) {
   if (!p || bytes == 0) return;
   const char* c = bytes_of(p);
+  (void)c;  // used only inside the pragma, which -Wunused-variable does not see
   DEBRIS_PRAGMA(omp target exit data map(release : c[0 : bytes]))
 }
 void update_device(const void* p, std::size_t bytes) {
   if (!p || bytes == 0) return;
   const char* c = bytes_of(p);
+  (void)c;  // used only inside the pragma, which -Wunused-variable does not see
   DEBRIS_PRAGMA(omp target update to(c[0 : bytes]))
 }
 void update_host(const void* p, std::size_t bytes) {
   if (!p || bytes == 0) return;
   const char* c = bytes_of(p);
+  (void)c;  // used only inside the pragma, which -Wunused-variable does not see
   DEBRIS_PRAGMA(omp target update from(c[0 : bytes]))
 }
 #else
