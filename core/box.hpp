@@ -23,6 +23,15 @@ inline Vec3 minimum_image(const BoxView& b, Vec3 d) {
   return d;
 }
 
+/// Minimum image for separations shorter than 1.5 box lengths, without floor(): what the neighbour list
+/// guarantees between rebuilds (positions wrapped at the rebuild, drift < skin/2, box >= 2 cutoffs).
+/// Branch-free, so pair loops vectorise.
+inline double nearest_image(double d, double len, int periodic) {
+  const double half = 0.5 * len;
+  const double shift = static_cast<double>(d > half) - static_cast<double>(d < -half);
+  return periodic ? d - shift * len : d;
+}
+
 class Particles;
 
 class Box {

@@ -46,20 +46,28 @@ void ContactHistory::carry_over(const Particles& p, const NeighborList& list) {
   const int known_ids = static_cast<int>(old_row_of_id_.size());
   const double *ohx = old_hx_.data(), *ohy = old_hy_.data(), *ohz = old_hz_.data();
   double *nhx = hx.data(), *nhy = hy.data(), *nhz = hz.data();
+  // In a half list a pair sits in the row of whichever end has the lower index, which a re-sort can swap:
+  // then the state is found in the partner's old row and seen from the other end (opposite sign).
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
-    if (id[i] >= known_ids) continue;  // a particle added since: no history yet
-    const int r = row_of_id[id[i]];
-    if (r < 0) continue;
+    const int r = id[i] < known_ids ? row_of_id[id[i]] : -1;  // -1: new since, or never listed
     for (int k = offset[i]; k < offset[i + 1]; ++k) {
       const std::int64_t q = id[index[k]];
-      for (int o = old_offset[r]; o < old_offset[r + 1]; ++o) {
-        if (old_partner[o] == q) {
-          nhx[k] = ohx[o];
-          nhy[k] = ohy[o];
-          nhz[k] = ohz[o];
-          break;
-        }
+      int found = -1;
+      double sign = 1.0;
+      if (r >= 0)
+        for (int o = old_offset[r]; o < old_offset[r + 1] && found < 0; ++o)
+          if (old_partner[o] == q) found = o;
+      const int rq = q < known_ids ? row_of_id[q] : -1;
+      if (found < 0 && rq >= 0) {
+        for (int o = old_offset[rq]; o < old_offset[rq + 1] && found < 0; ++o)
+          if (old_partner[o] == id[i]) found = o;
+        sign = -1.0;
+      }
+      if (found >= 0) {
+        nhx[k] = sign * ohx[found];
+        nhy[k] = sign * ohy[found];
+        nhz[k] = sign * ohz[found];
       }
     }
   }

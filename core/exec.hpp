@@ -38,6 +38,12 @@
 #define DEBRIS_END_DECLARE_TARGET
 #endif
 
+// Host-only parallel regions for passes that need a per-thread buffer (the half-list contact pass). Never
+// used in an offload build (mixing host parallel regions with target regions oversubscribes the cores).
+#define DEBRIS_HOST_PARALLEL DEBRIS_PRAGMA(omp parallel)
+#define DEBRIS_HOST_FOR DEBRIS_PRAGMA(omp for schedule(static))
+#define DEBRIS_HOST_FOR_NOWAIT DEBRIS_PRAGMA(omp for schedule(static) nowait)
+
 // A real scatter (rare: pair passes use full lists and write only to i).
 #define DEBRIS_ATOMIC_ADD(target, value) \
   DEBRIS_PRAGMA(omp atomic update)       \
@@ -57,6 +63,10 @@ constexpr bool offload_build() {
 /// Number of host threads kernels use (host builds) or that host fallback uses.
 void set_threads(int n);
 int threads();
+
+/// Inside a DEBRIS_HOST_PARALLEL region: this thread's number and the team size.
+int thread_id();
+int team_size();
 
 /// Runs a tiny target region and reports whether it executed on a GPU. Always false in host builds.
 bool kernels_run_on_device();

@@ -1,5 +1,7 @@
 #include "kernels/cohesive_contact.hpp"
 
+#include <stdexcept>
+
 #include "core/contact_history.hpp"
 #include "core/exec.hpp"
 #include "core/neighbor_list.hpp"
@@ -10,6 +12,7 @@ namespace debris {
 void cohesive_contact_pass(const CohesiveCoefficients& c, const CohesiveOptions& opt, const BoxView& box,
                            Particles& p, const NeighborList& list, ContactHistory& history, double dt,
                            int update_history) {
+  if (list.kind() != NeighborKind::full) throw std::logic_error("cohesive_contact_pass needs a full list");
   const int n = list.rows();
   const int* __restrict offset = list.offset().data();
   const int* __restrict index = list.index().data();
@@ -62,6 +65,8 @@ CohesiveDiagnostics cohesive_diagnostics(const CohesiveCoefficients& c, const Co
   const CohesiveCoefficients coef = c;
   const CohesiveOptions o = opt;
   const BoxView b = box;
+  // A full list holds each pair twice: half of its energy per appearance.
+  const double share = list.kind() == NeighborKind::full ? 0.5 : 1.0;
   double energy = 0.0, overlap = 0.0, pairs = 0.0;
   DEBRIS_KERNEL_SUM2(energy, pairs)
   for (int i = 0; i < n; ++i) {
@@ -70,9 +75,8 @@ CohesiveDiagnostics cohesive_diagnostics(const CohesiveCoefficients& c, const Co
       const Vec3 dx = minimum_image(b, Vec3{x[i] - x[j], y[i] - y[j], z[i] - z[j]});
       const CohesivePairParams pp = cohesive_pair_params(coef, radius[i], radius[j], mass[i], mass[j]);
       const double dn = norm(dx) - radius[i] - radius[j];
-      // Each pair appears twice in a full list: half of its energy per appearance.
-      energy += 0.5 * cohesive_pair_energy(pp, o, dn, Vec3{hx[k], hy[k], hz[k]});
-      if (dn <= (o.adhesive ? pp.delta_f : 0.0)) pairs += 0.5;
+      energy += share * cohesive_pair_energy(pp, o, dn, Vec3{hx[k], hy[k], hz[k]});
+      if (dn <= (o.adhesive ? pp.delta_f : 0.0)) pairs += share;
     }
   }
   DEBRIS_KERNEL_MAX(overlap)

@@ -17,7 +17,7 @@ void cohesive_contact_pass(const CohesiveCoefficients& c, const CohesiveOptions&
                            Particles& p, const NeighborList& list, ContactHistory& history, double dt,
                            int update_history);
 
-/// Diagnostics over the same list (no history update).
+/// Diagnostics over a full or half list (no history update).
 struct CohesiveDiagnostics {
   double elastic_energy = 0;  // sum over pairs of eq 3's potential plus the tangential spring energy
   double max_overlap = 0;     // largest interpenetration -dN over interacting pairs (0 if none)

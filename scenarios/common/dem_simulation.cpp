@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
+#include "core/exec.hpp"
 #include "kernels/integrate.hpp"
 
 namespace debris {
@@ -28,6 +29,9 @@ DemSimulation::DemSimulation(Box box, Particles particles, Groups groups, DemSet
 
 void DemSimulation::setup() {
   coef_ = CohesiveCoefficients::from(settings_.material);
+  pass_ = settings_.pair_pass != PairPass::automatic ? settings_.pair_pass
+          : exec::offload_build()                    ? PairPass::full
+                                                     : PairPass::half;
   if (p_.size() == 0) throw input_error("particles", "none", "the system has no particle");
   p_.check_ids();
   for (std::size_t i = 0; i < p_.size(); ++i) {
@@ -105,8 +109,10 @@ void DemSimulation::rebuild(const std::vector<int>* order) {
                   max_cutoff_ + skin_);
     p_.permute(sorter_.sort_order());
   }
-  list_.build(box_.view(), p_, CohesiveCutoff{coef_}, max_cutoff_, skin_, NeighborKind::full);
+  list_.build(box_.view(), p_, CohesiveCutoff{coef_}, max_cutoff_, skin_,
+               pass_ == PairPass::half ? NeighborKind::half : NeighborKind::full);
   history_.carry_over(p_, list_);
+  if (pass_ == PairPass::half) table_.build(coef_, p_, list_);
   ++times_.rebuilds;
   times_.neighbours += seconds_since(t0);
 }
@@ -114,7 +120,11 @@ void DemSimulation::rebuild(const std::vector<int>* order) {
 void DemSimulation::compute_forces(int update_history) {
   auto t0 = Clock::now();
   zero_forces(p_);
-  cohesive_contact_pass(coef_, settings_.options, box_.view(), p_, list_, history_, dt_, update_history);
+  if (pass_ == PairPass::half)
+    cohesive_contact_pass_half(table_, settings_.options, box_.view(), p_, list_, history_, dt_, update_history,
+                               buffers_);
+  else
+    cohesive_contact_pass(coef_, settings_.options, box_.view(), p_, list_, history_, dt_, update_history);
   times_.contact += seconds_since(t0);
   t0 = Clock::now();
   groups_.measure_reactions(p_);
@@ -122,7 +132,16 @@ void DemSimulation::compute_forces(int update_history) {
   times_.other += seconds_since(t0);
 }
 
-void DemSimulation::recompute_forces() { compute_forces(0); }
+void DemSimulation::recompute_forces() {
+  if (pass_ == PairPass::half) table_.build(coef_, p_, list_);
+  compute_forces(0);
+}
+
+double DemSimulation::bytes_per_particle() const {
+  const double n = static_cast<double>(p_.size());
+  return static_cast<double>(Particles::bytes_per_particle()) +
+         static_cast<double>(list_.bytes() + history_.bytes() + table_.bytes() + buffers_.bytes()) / n;
+}
 
 void DemSimulation::step() {
   auto t0 = Clock::now();

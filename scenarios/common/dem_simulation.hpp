@@ -16,9 +16,15 @@
 #include "core/neighbor_list.hpp"
 #include "core/particles.hpp"
 #include "kernels/cohesive_contact.hpp"
+#include "kernels/cohesive_contact_half.hpp"
+#include "kernels/cohesive_pair_table.hpp"
 #include "kernels/cohesive_material.hpp"
 
 namespace debris {
+
+/// Which contact pass runs: the half-list host pass (each pair once, per-pair constants tabulated), or the
+/// full-list pass (each pair from both ends, no scatter: the GPU path and the reference).
+enum class PairPass { automatic, full, half };
 
 struct DemSettings {
   CohesiveMaterial material;
@@ -31,6 +37,7 @@ struct DemSettings {
   double skin = 0.0;                      // Verlet skin; 0 = 10% of the smallest diameter
   bool sort_by_cell = true;               // re-sort particles in memory at each rebuild (ids are kept)
   bool masses_from_density = true;        // set m = rho 4/3 pi r^3 at set-up (false: keep the given masses)
+  PairPass pair_pass = PairPass::automatic;  // automatic: half on host builds, full in offload builds
 };
 
 /// Accumulated wall time per pass.
@@ -75,8 +82,13 @@ class DemSimulation {
   /// Stores the particles in the given order (new index i holds old index order[i]) instead of by cell,
   /// rebuilding the list and carrying the history over; ids, physics and history are unchanged.
   void reorder(const std::vector<int>& order);
-  /// Re-evaluates forces at the current state without advancing the history (after host-side edits).
+  /// Re-evaluates forces at the current state without advancing the history (after host-side edits,
+  /// e.g. of masses: the per-pair constants are recomputed too).
   void recompute_forces();
+  /// The contact pass in use (never automatic).
+  PairPass pair_pass() const { return pass_; }
+  /// Bytes held per particle by particles, neighbour list, history, pair table and thread buffers.
+  double bytes_per_particle() const;
   /// Changes the global damping fraction (relaxation phases).
   void set_global_damping(double fraction);
 
@@ -99,6 +111,9 @@ class DemSimulation {
   NeighborList list_;
   CellList sorter_;
   ContactHistory history_;
+  CohesivePairTable table_;
+  ThreadForceBuffers buffers_;
+  PairPass pass_ = PairPass::full;
   double dt_ = 0, damping_ = 0, skin_ = 0, max_cutoff_ = 0;
   long step_ = 0;
   double time_ = 0;
