@@ -1,5 +1,7 @@
 #include "core/neighbor_list.hpp"
 
+#include <stdexcept>
+
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -69,6 +71,27 @@ void NeighborList::record(const BoxView& box, const Particles& p, double skin, N
   rows_ = static_cast<int>(p.size());
   skin_ = skin;
   kind_ = kind;
+  built_ = true;
+}
+
+NeighborList::Saved NeighborList::save() const {
+  Saved s{kind_, skin_, offset_, index_, x0_, y0_, z0_, {len0_[0], len0_[1], len0_[2]}};
+  return s;
+}
+
+void NeighborList::restore(Saved s) {
+  if (s.offset.size() != s.x0.size() + 1 || s.x0.size() != s.y0.size() || s.x0.size() != s.z0.size() ||
+      (!s.offset.empty() && static_cast<std::size_t>(s.offset.back()) != s.index.size()))
+    throw std::runtime_error("neighbour list restore: inconsistent arrays");
+  kind_ = s.kind;
+  skin_ = s.skin;
+  offset_ = std::move(s.offset);
+  index_ = std::move(s.index);
+  x0_ = std::move(s.x0);
+  y0_ = std::move(s.y0);
+  z0_ = std::move(s.z0);
+  for (int a = 0; a < 3; ++a) len0_[a] = s.len0[a];
+  rows_ = static_cast<int>(x0_.size());
   built_ = true;
 }
 

@@ -90,6 +90,18 @@ class NeighborList {
   /// not a move).
   bool needs_rebuild(const BoxView& box, const Particles& p) const;
 
+  /// Everything a checkpoint needs to continue with this exact list (a rebuild would re-sort and change the
+  /// summation order, so a restart would no longer be bit for bit).
+  struct Saved {
+    NeighborKind kind;
+    double skin;
+    std::vector<int> offset, index;
+    std::vector<double> x0, y0, z0;  // positions at the build
+    double len0[3];                  // box lengths at the build
+  };
+  Saved save() const;
+  void restore(Saved s);
+
   int rows() const { return rows_; }
   const std::vector<int>& offset() const { return offset_; }  // size rows() + 1
   const std::vector<int>& index() const { return index_; }    // neighbour indices

@@ -95,10 +95,19 @@ class DemSimulation {
   /// Elastic energy, max overlap and interacting pairs at the current state.
   CohesiveDiagnostics diagnostics() const;
 
+  /// Writes everything needed to continue bit for bit (particles, box, groups and their state, neighbour
+  /// list, contact history, step, time, settings, and the input file's text) to `path` atomically: into
+  /// `path`.tmp, closed, then renamed, so a crash mid-write leaves the previous checkpoint whole.
+  void write_checkpoint(const std::string& path, const std::string& input_echo) const;
+  /// Continues from a checkpoint exactly where it was written. `input_echo` receives the input text.
+  static DemSimulation from_checkpoint(const std::string& path, std::string* input_echo = nullptr);
+
   /// One-paragraph summary: N, dt and dt_c, c_c, skin, cutoff, calibration of the smallest pair.
   std::string summary() const;
 
  private:
+  struct Restored {};
+  explicit DemSimulation(Restored) {}
   void compute_forces(int update_history);
   void rebuild(const std::vector<int>* order);
 

@@ -1,0 +1,212 @@
+#pragma once
+// A small RAII layer over the HDF5 C API (HighFive is not packaged in Debian 12): files, groups, datasets,
+// dataspaces and attributes are move-only handles closed in their destructors, whole 1-D / 2-D arrays of
+// double, int32 and int64 are written and read in one call, and every failure becomes a std::runtime_error
+// that names the file, the object and HDF5's own reason. HDF5's automatic printing of its error stack to
+// stderr is switched off inside this layer, since the exception carries the message instead.
+//
+// Files use HDF5's default (oldest) format on purpose: the 1.10 "latest" format marks a file as open for
+// writing in its superblock, and after a killed run every reader then refuses it until `h5clear -s`.
+#include <concepts>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace debris::h5 {
+
+using Shape = std::vector<std::size_t>;
+
+/// The element types stored: double, int32 (int) and int64 (long, std::int64_t).
+template <class T>
+concept Element = std::same_as<T, double> || std::same_as<T, std::int32_t> || std::same_as<T, std::int64_t>;
+
+/// A whole dataset read back: values in row-major order and its shape ({} for a scalar dataset).
+template <Element T>
+struct Array {
+  std::vector<T> values;
+  Shape shape;
+};
+
+/// Owns one HDF5 identifier (hid_t) and closes it with the matching H5?close; move-only.
+class Handle {
+ public:
+  using Closer = int (*)(std::int64_t);
+  Handle() = default;
+  Handle(std::int64_t id, Closer closer) : id_(id), closer_(closer) {}
+  Handle(Handle&& o) noexcept : id_(o.id_), closer_(o.closer_) { o.id_ = -1; }
+  Handle& operator=(Handle&& o) noexcept;
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  ~Handle() { reset(); }
+
+  std::int64_t id() const { return id_; }
+  bool valid() const { return id_ >= 0; }
+  /// Closes now; returns false if HDF5 reported an error (destructors ignore it, close() paths check it).
+  bool reset() noexcept;
+
+ private:
+  std::int64_t id_ = -1;
+  Closer closer_ = nullptr;
+};
+
+class Dataspace {
+ public:
+  static Dataspace scalar();
+  static Dataspace simple(const Shape& shape);
+  /// Wraps an identifier returned by H5Dget_space / H5Aget_space.
+  explicit Dataspace(Handle h) : h_(std::move(h)) {}
+  std::int64_t id() const { return h_.id(); }
+  /// {} for a scalar dataspace.
+  Shape shape() const;
+  std::size_t elements() const;
+
+ private:
+  Handle h_;
+};
+
+class Dataset {
+ public:
+  Dataset(Handle h, std::string file, std::string path) : h_(std::move(h)), file_(std::move(file)), path_(std::move(path)) {}
+  std::int64_t id() const { return h_.id(); }
+  const std::string& path() const { return path_; }
+  Shape shape() const;
+  /// The whole dataset; std::runtime_error if its stored type does not fit T without loss.
+  template <Element T>
+  Array<T> read() const;
+
+ private:
+  Handle h_;
+  std::string file_, path_;
+};
+
+class Group;
+
+struct GroupOptions {
+  /// For a group that grows to many members: sizes its heap of member names up front (about 8 bytes per
+  /// short name), so adding a member rewrites that heap in place instead of moving it.
+  std::size_t reserved_name_bytes = 0;
+  /// For a group of a few members: keeps them in the group's own header (HDF5 >= 1.8 "compact" links),
+  /// so the group costs no index of its own. Not together with reserved_name_bytes.
+  bool small = false;
+};
+
+/// What File and Group share: datasets, subgroups and attributes addressed by name relative to this
+/// object. Names may be paths ("frames/3/position"); creating an object creates its missing parent groups.
+class Location {
+ public:
+  std::int64_t id() const { return h_.id(); }
+  const std::string& file_path() const { return file_; }
+  /// This object's absolute path inside the file ("/" for the file itself).
+  const std::string& object_path() const { return path_; }
+
+  Group create_group(const std::string& name, const GroupOptions& options = {});
+  /// A group linked nowhere yet: fill it, flush, then link() it, and a crash before the link cannot touch
+  /// what the file already held.
+  Group create_unlinked_group(const GroupOptions& options = {});
+  /// Links `object` (from the same file) here under `name`.
+  void link(const Location& object, const std::string& name);
+  Group open_group(const std::string& name) const;
+  /// Whether a link `name` exists (every component of a path is checked, so a missing parent is false).
+  bool has(const std::string& name) const;
+  bool has_attribute(const std::string& name) const;
+  /// Names of the links in this group, in HDF5's name order ("10" sorts before "2").
+  std::vector<std::string> children() const;
+
+  Dataset open_dataset(const std::string& name) const;
+
+  /// A new dataset of `shape` (row-major `values`, whose size must match); throws if `name` exists.
+  template <Element T>
+  void write(const std::string& name, std::span<const T> values, const Shape& shape);
+  /// 1-D.
+  template <Element T>
+  void write(const std::string& name, const std::vector<T>& values) {
+    write(name, std::span<const T>(values), Shape{values.size()});
+  }
+  /// 2-D, rows x cols, row-major.
+  template <Element T>
+  void write(const std::string& name, const std::vector<T>& values, std::size_t rows, std::size_t cols) {
+    write(name, std::span<const T>(values), Shape{rows, cols});
+  }
+  /// A scalar (rank-0) dataset.
+  template <Element T>
+  void write_scalar(const std::string& name, T value) {
+    write(name, std::span<const T>(&value, 1), Shape{});
+  }
+
+  template <Element T>
+  Array<T> read(const std::string& name) const {
+    return open_dataset(name).read<T>();
+  }
+  /// A dataset holding exactly one value (rank 0, or any shape of one element).
+  template <Element T>
+  T read_scalar(const std::string& name) const;
+
+  /// Text of any length as a scalar fixed-length string dataset (attributes are limited to 64 KiB).
+  void write_string(const std::string& name, const std::string& text);
+  std::string read_string(const std::string& name) const;
+  /// A 1-D dataset of fixed-length strings (e.g. group names).
+  void write_strings(const std::string& name, const std::vector<std::string>& texts);
+  std::vector<std::string> read_strings(const std::string& name) const;
+
+  /// Attributes on this object; setting one that exists replaces it.
+  template <Element T>
+  void set_attribute(const std::string& name, T value) {
+    set_attribute_array(name, std::span<const T>(&value, 1), Shape{});
+  }
+  template <Element T>
+  void set_attribute(const std::string& name, const std::vector<T>& values) {
+    set_attribute_array(name, std::span<const T>(values), Shape{values.size()});
+  }
+  void set_string_attribute(const std::string& name, const std::string& text);
+
+  template <Element T>
+  T attribute(const std::string& name) const;
+  template <Element T>
+  std::vector<T> attribute_array(const std::string& name) const;
+  std::string string_attribute(const std::string& name) const;
+
+ protected:
+  Location(Handle h, std::string file, std::string path) : h_(std::move(h)), file_(std::move(file)), path_(std::move(path)) {}
+  /// Absolute path of `name` below this object, for messages and for Dataset.
+  std::string child_path(const std::string& name) const;
+
+  Handle h_;
+  std::string file_, path_;
+
+ private:
+  template <Element T>
+  void set_attribute_array(const std::string& name, std::span<const T> values, const Shape& shape);
+};
+
+class Group : public Location {
+  friend class Location;
+  using Location::Location;
+};
+
+struct FileOptions {
+  /// false skips HDF5's flock(), so a reader holding the file open (h5py, a viewer) cannot make a long
+  /// run fail when it reopens its output; the writer then owns consistency.
+  bool file_locking = true;
+  /// At creation: members per group index leaf is twice this (HDF5's sym_k "lk"; 0 keeps its 4). Larger
+  /// leaves split less often as a group grows to thousands of members.
+  unsigned group_leaf_k = 0;
+};
+
+class File : public Location {
+ public:
+  enum class Mode { create, read_write, read_only };  // create truncates an existing file
+  File(const std::string& path, Mode mode, FileOptions options = {});
+  File(File&&) = default;
+  File& operator=(File&&) = default;
+  ~File() = default;  // closes without checking; call close() where the file must really be shut
+
+  /// Writes every cached change to the file (H5Fflush).
+  void flush();
+  /// Closes the file and checks it really closed: std::logic_error if a group, dataset or attribute
+  /// opened from it is still alive (HDF5 would keep the file open until that object goes).
+  void close();
+};
+
+}  // namespace debris::h5
