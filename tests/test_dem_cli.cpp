@@ -11,6 +11,9 @@
 #include <sstream>
 #include <string>
 
+#include "core/io/hdf5_file.hpp"
+#include "scenarios/common/dem_simulation.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -207,6 +210,82 @@ TEST(DemCliDefault, DefaultInputRuns) {
   EXPECT_NEAR(v[13], applied, 1e-6 * applied);  // top_fy
   EXPECT_NEAR(v[7], -applied, 1e-6 * applied);  // bottom_fy
   EXPECT_LT(v[16], -5.0);                       // top_dy: compressed
+}
+
+std::string last_frame(const fs::path& dump) {
+  const std::string t = slurp(dump);
+  return t.substr(t.rfind("ITEM: TIMESTEP"));
+}
+
+// 2N steps in one run equal N steps, then --restart to 2N: same final frame and the same thermo table.
+TEST(DemCliRestart, RestartContinuesBitForBit) {
+  const fs::path d = scratch("restart");
+  std::string yaml = replace(small_input((d / "full").string()), "steps: 20", "steps: 60");
+  yaml = replace(yaml, "cells: [3, 3, 3]", "cells: [3, 3, 3]\n    size_spread: 0.05\n    displacement: 3");
+  const fs::path full = write(d, "full.yaml", yaml);
+  const fs::path half = write(d, "half.yaml", replace(replace(yaml, "steps: 60", "steps: 30"), (d / "full").string(),
+                                                       (d / "split").string()));
+  ASSERT_EQ(run_dem("-i " + full.string()).exit_code, 0);
+  ASSERT_EQ(run_dem("-i " + half.string()).exit_code, 0);
+  const Result r = run_dem("--restart " + (d / "split" / "checkpoint.h5").string() + " -i " + full.string() + " -o " +
+                           (d / "split").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("restarting from"), std::string::npos);
+  EXPECT_EQ(last_frame(d / "full" / "dump.lammpstrj"), last_frame(d / "split" / "dump.restart30.lammpstrj"));
+  EXPECT_EQ(slurp(d / "full" / "thermo.csv"), slurp(d / "split" / "thermo.csv"));
+  // The restarted run wrote its own checkpoint at step 60, keeping the 60-step input. Without -i that input
+  // is used: nothing is left to run. An input asking for fewer steps than already done is an error.
+  const Result again = run_dem("--restart " + (d / "split" / "checkpoint.h5").string() + " -o " + (d / "again").string());
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_NE(again.output.find("at step 60"), std::string::npos) << again.output;
+  const fs::path shorter = write(d, "short.yaml", replace(yaml, "steps: 60", "steps: 10"));
+  const Result back = run_dem("--restart " + (d / "split" / "checkpoint.h5").string() + " -i " + shorter.string());
+  EXPECT_EQ(back.exit_code, 2) << back.output;
+  EXPECT_NE(back.output.find("run.steps"), std::string::npos) << back.output;
+}
+
+// A run pushed past the critical time step blows up: it stops at a health check with a message naming the
+// step and the particle, exits 3, and the last good checkpoint is the one written before.
+TEST(DemCliRestart, UnstableRunStopsAndKeepsTheLastGoodCheckpoint) {
+  const fs::path d = scratch("unstable");
+  std::string yaml = replace(small_input((d / "out").string()), "time_step_fraction: 0.1",
+                             "time_step_fraction: 1.02\n  allow_unstable_time_step: true");
+  yaml = replace(yaml, "steps: 20", "steps: 400");
+  yaml = replace(yaml, "cells: [3, 3, 3]", "cells: [3, 3, 3]\n    displacement: 0.5");
+  yaml = replace(yaml, "  thermo_every: 10", "  thermo_every: 1\n  checkpoint_every: 1");
+  const Result r = run_dem("-i " + write(d, "bad.yaml", yaml).string());
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("stopped:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("at step"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("particle"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("last good checkpoint"), std::string::npos) << r.output;
+  // The checkpoint left behind is a sound state from before the failure.
+  debris::DemSimulation back = debris::DemSimulation::from_checkpoint((d / "out" / "checkpoint.h5").string());
+  EXPECT_EQ(back.health_check(), "");
+  EXPECT_GT(back.step_count(), 0);
+}
+
+// A run killed with SIGKILL in the middle leaves a trajectory whose every listed frame reads, and a
+// checkpoint that loads.
+TEST(DemCliRestart, KilledRunLeavesReadableTrajectoryAndCheckpoint) {
+  const fs::path d = scratch("killed");
+  std::string yaml = replace(small_input((d / "out").string()), "steps: 20", "steps: 100000000");
+  yaml = replace(yaml, "cells: [3, 3, 3]", "cells: [6, 6, 6]");
+  yaml = replace(yaml, "  dump_every: 10", "  dump_every: 0\n  trajectory_every: 5\n  checkpoint_every: 20");
+  const fs::path input = write(d, "long.yaml", yaml);
+  const Result r = run_dem("-i " + input.string() + " > /dev/null & pid=$!; sleep 3; kill -9 $pid; wait $pid; true");
+  (void)r;
+  const std::string xmf = slurp(d / "out" / "trajectory.xmf");
+  std::size_t frames = 0;
+  for (auto pos = xmf.find("<Time Value="); pos != std::string::npos; pos = xmf.find("<Time Value=", pos + 1)) ++frames;
+  ASSERT_GE(frames, 2u) << "the run did not get far enough in 3 s";
+  debris::h5::File f((d / "out" / "trajectory.h5").string(), debris::h5::File::Mode::read_only);
+  for (std::size_t k = 0; k < frames; ++k) {
+    const auto pos = f.read<double>("frames/" + std::to_string(k) + "/position");
+    EXPECT_EQ(pos.values.size(), 3u * 864u) << "frame " << k;
+  }
+  debris::DemSimulation back = debris::DemSimulation::from_checkpoint((d / "out" / "checkpoint.h5").string());
+  EXPECT_EQ(back.particles().size(), 864u);
 }
 
 }  // namespace

@@ -1,6 +1,9 @@
 #include "core/io/thermo_csv.hpp"
 
 #include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <charconv>
 #include <cstring>
 #include <stdexcept>
@@ -23,6 +26,39 @@ ThermoCsv::ThermoCsv(const std::string& path, std::vector<std::string> columns)
   if (!out_) throw input_error("output", path, std::string("cannot open for writing: ") + std::strerror(errno));
   out_ << header << '\n' << std::flush;
   if (!out_) throw input_error("output", path, "writing the header failed (disk full?)");
+}
+
+ThermoCsv::ThermoCsv(const std::string& path, std::vector<std::string> columns, long keep_up_to_step)
+    : path_(path), columns_(std::move(columns)) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {  // nothing to resume
+    *this = ThermoCsv(path, columns_);
+    return;
+  }
+  std::string header, line, kept;
+  std::getline(in, header);
+  std::string expected;
+  for (const auto& c : columns_) expected += (expected.empty() ? "" : ",") + c;
+  if (header != expected)
+    throw input_error("output", path, "cannot resume: its columns differ from this run's (" + expected + ")");
+  kept = header + '\n';
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    const double step = std::strtod(line.c_str(), nullptr);
+    if (step <= static_cast<double>(keep_up_to_step)) kept += line + '\n';
+  }
+  in.close();
+  // Rewritten through a temporary file, so a crash here keeps the old table.
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream t(tmp, std::ios::binary | std::ios::trunc);
+    t << kept;
+    if (!t) throw input_error("output", tmp, "cannot write (disk full?)");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    throw input_error("output", path, std::string("cannot replace: ") + std::strerror(errno));
+  out_.open(path, std::ios::binary | std::ios::app);
+  if (!out_) throw input_error("output", path, std::string("cannot open for appending: ") + std::strerror(errno));
 }
 
 void ThermoCsv::write_row(const std::vector<double>& values) {

@@ -13,6 +13,11 @@ class ThermoCsv {
   /// Column names may not contain ',', '"' or line breaks (std::invalid_argument).
   ThermoCsv(const std::string& path, std::vector<std::string> columns);
 
+  /// Resumes a table after a restart: keeps the rows of an existing `path` whose first column (the step) is
+  /// <= keep_up_to_step, drops later ones (written after the checkpoint by the run that stopped), then appends.
+  /// A missing file starts afresh; a header that differs is an InputError.
+  ThermoCsv(const std::string& path, std::vector<std::string> columns, long keep_up_to_step);
+
   /// One row at full double precision; std::logic_error if values.size() differs from the columns.
   void write_row(const std::vector<double>& values);
 

@@ -236,9 +236,22 @@ DemRunConfig read_dem_input(const InputNode& root, const std::string& base_direc
       throw input_error("output.thermo_every", std::to_string(cfg.output.thermo_every), "must be >= 1");
     if (cfg.output.dump_every < 0)
       throw input_error("output.dump_every", std::to_string(cfg.output.dump_every), "must be >= 0");
+    cfg.output.trajectory_every = out.integer("trajectory_every", 0);
+    if (cfg.output.trajectory_every < 0)
+      throw input_error("output.trajectory_every", std::to_string(cfg.output.trajectory_every), "must be >= 0");
+    cfg.output.checkpoint_every = out.integer("checkpoint_every", 0);
+    if (cfg.output.checkpoint_every < 0)
+      throw input_error("output.checkpoint_every", std::to_string(cfg.output.checkpoint_every), "must be >= 0");
+    cfg.output.progress_seconds = out.quantity("progress_seconds", units::time, 10.0);
+    if (!(cfg.output.progress_seconds > 0))
+      throw input_error("output.progress_seconds", num(cfg.output.progress_seconds), "must be > 0");
   }
   root.reject_unknown_keys();
   return cfg;
+}
+
+DemRunConfig read_dem_input_text(const std::string& text, const std::string& name, const std::string& base_directory) {
+  return read_dem_input(InputNode::load_string(text, name), base_directory);
 }
 
 }  // namespace debris

@@ -14,8 +14,11 @@ class InputNode;
 
 struct DemOutputSettings {
   std::string directory = "out";
-  long thermo_every = 100;  // thermo CSV row and terminal line
-  long dump_every = 0;      // LAMMPS dump frame; 0 = first and last step only
+  long thermo_every = 100;      // thermo CSV row, terminal line and health check (NaN, exploding overlap)
+  long dump_every = 0;          // LAMMPS dump frame (OVITO); 0 = first and last step only
+  long trajectory_every = 0;    // HDF5 + XDMF frame (ParaView); 0 = same as dump_every
+  long checkpoint_every = 0;    // checkpoint.h5; 0 = at the end only
+  double progress_seconds = 10; // progress line at most this often
 };
 
 struct DemRunConfig {
@@ -32,5 +35,8 @@ struct DemRunConfig {
 /// out of range or unknown. Relative paths inside it (a LAMMPS data file) are relative to the file.
 DemRunConfig read_dem_input(const std::string& path);
 DemRunConfig read_dem_input(const InputNode& root, const std::string& base_directory);
+
+/// Reads the input from its text (the echo a checkpoint keeps); `name` stands for the file in messages.
+DemRunConfig read_dem_input_text(const std::string& text, const std::string& name, const std::string& base_directory);
 
 }  // namespace debris

@@ -167,6 +167,36 @@ CohesiveDiagnostics DemSimulation::diagnostics() const {
   return cohesive_diagnostics(coef_, settings_.options, box_.view(), p_, list_, history_);
 }
 
+std::string DemSimulation::health_check(double overlap_limit) const {
+  const long bad = first_non_finite(p_);
+  if (bad >= 0) {
+    const std::size_t b = static_cast<std::size_t>(bad);
+    std::ostringstream os;
+    os << "non-finite state at step " << step_ << " on particle id " << p_.id[b] << " (x = " << p_.x[b]
+       << ", v = " << p_.vx[b] << ", f = " << p_.fx[b] << "); is the time step stable?";
+    return os.str();
+  }
+  const double r_min = *std::min_element(p_.radius.begin(), p_.radius.end());
+  if (diagnostics().max_overlap <= overlap_limit * r_min) return {};
+  // Rare: find the pair by a plain scan.
+  const BoxView b = box_.view();
+  for (int i = 0; i < list_.rows(); ++i) {
+    for (int k = list_.offset()[i]; k < list_.offset()[i + 1]; ++k) {
+      const std::size_t a = static_cast<std::size_t>(i), c = static_cast<std::size_t>(list_.index()[k]);
+      const Vec3 d = minimum_image(b, Vec3{p_.x[a] - p_.x[c], p_.y[a] - p_.y[c], p_.z[a] - p_.z[c]});
+      const double overlap = p_.radius[a] + p_.radius[c] - norm(d);
+      if (overlap > overlap_limit * std::min(p_.radius[a], p_.radius[c])) {
+        std::ostringstream os;
+        os << "exploding overlap at step " << step_ << ": particles id " << p_.id[a] << " and id " << p_.id[c]
+           << " overlap by " << overlap << " (radii " << p_.radius[a] << ", " << p_.radius[c]
+           << "); is the time step stable, or the load too large?";
+        return os.str();
+      }
+    }
+  }
+  return {};
+}
+
 std::string DemSimulation::summary() const {
   const std::size_t i = static_cast<std::size_t>(limits_.particle);
   const CohesivePairParams pp = cohesive_pair_params(coef_, p_.radius[i], p_.radius[i], p_.mass[i], p_.mass[i]);

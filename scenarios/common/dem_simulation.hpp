@@ -95,6 +95,11 @@ class DemSimulation {
   /// Elastic energy, max overlap and interacting pairs at the current state.
   CohesiveDiagnostics diagnostics() const;
 
+  /// Empty when the state is sound; otherwise a message naming the step and the particle(s): a non-finite
+  /// position, velocity or force, or an exploding overlap (deeper than `overlap_limit` times the smaller
+  /// radius of the pair, which no calibrated cohesive solid reaches).
+  std::string health_check(double overlap_limit = 0.5) const;
+
   /// Writes everything needed to continue bit for bit (particles, box, groups and their state, neighbour
   /// list, contact history, step, time, settings, and the input file's text) to `path` atomically: into
   /// `path`.tmp, closed, then renamed, so a crash mid-write leaves the previous checkpoint whole.

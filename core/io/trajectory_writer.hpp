@@ -1,0 +1,56 @@
+#pragma once
+// Trajectory frames in HDF5 with an XDMF sidecar, the pair ParaView opens (File > Open the .xmf; both of
+// its XDMF readers work). Layout of <stem>.h5:
+//   /group_names                 names of the motion groups (strings; index k is group k)
+//   /frames/<k>/position         N x 3 double      rows sorted by permanent id
+//              /id               N int64
+//              /type, /group     N int32 (group -1 = none)
+//              /radius           N double
+//              /velocity, /force N x 3 double
+//   attributes of /frames/<k>: step (int64), time (double), box_lo, box_hi (3 doubles), periodic (3 int32)
+// <stem>.xmf lists every frame as one grid of a temporal collection, with the data referred to as
+// "<stem>.h5:/frames/<k>/...", a path relative to the .xmf, so the pair can be moved together.
+//
+// A killed run leaves both files readable. Each frame opens the .h5, writes, flushes and closes it again,
+// so between frames the file is never open; the .xmf is rewritten only after that close (to .xmf.tmp,
+// then renamed over the old one), so it always lists exactly the frames whose data is complete on disk.
+// Only a kill during the few milliseconds in which a frame's close writes HDF5's metadata can damage the
+// file. The file is opened without HDF5's flock, so a viewer holding it open cannot make the run fail.
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "core/box.hpp"
+#include "core/particles.hpp"
+
+namespace debris {
+
+class TrajectoryWriter {
+ public:
+  /// Creates <dir>/<stem>.h5 and <dir>/<stem>.xmf (truncating both; the .xmf lists no frame yet).
+  /// InputError ("output") if they cannot be created or `stem` holds a character XDMF cannot refer to.
+  TrajectoryWriter(const std::string& dir, const std::string& stem, std::vector<std::string> group_names);
+
+  /// Appends frame frames(): positions, ids, types, radii, velocities, forces and groups sorted by id, then
+  /// rewrites the .xmf. N may change between frames. std::runtime_error (naming file and object) if
+  /// HDF5 fails; std::invalid_argument if a particle's group has no name.
+  void write_frame(long step, double time, const Box& box, const Particles& p);
+
+  long frames() const { return static_cast<long>(frames_.size()); }
+  const std::string& h5_path() const { return h5_path_; }
+  const std::string& xmf_path() const { return xmf_path_; }
+
+ private:
+  struct Frame {
+    long step;
+    double time;
+    std::size_t particles;
+  };
+  void write_xmf() const;
+
+  std::string h5_name_, h5_path_, xmf_path_;
+  std::vector<std::string> group_names_;
+  std::vector<Frame> frames_;
+};
+
+}  // namespace debris
