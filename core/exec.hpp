@@ -43,6 +43,8 @@
 #define DEBRIS_HOST_PARALLEL DEBRIS_PRAGMA(omp parallel)
 #define DEBRIS_HOST_FOR DEBRIS_PRAGMA(omp for schedule(static))
 #define DEBRIS_HOST_FOR_NOWAIT DEBRIS_PRAGMA(omp for schedule(static) nowait)
+// A vector loop (host and device): no dependence between iterations.
+#define DEBRIS_SIMD DEBRIS_PRAGMA(omp simd)
 
 // A real scatter (rare: pair passes use full lists and write only to i).
 #define DEBRIS_ATOMIC_ADD(target, value) \

@@ -1,10 +1,13 @@
 #pragma once
-// The cohesive contact pass for host threads: eqs 2-5 over a half neighbour list (each pair evaluated once,
-// its reaction written to j), with the per-pair constants of CohesivePairTable. Half the pair work of the
-// full-list pass (kernels/cohesive_contact.hpp), which stays the GPU path and the reference this one is
-// tested against. Each thread writes j's share into its own buffer (thread 0 into the particle arrays), so no
-// atomics are needed; the buffers are added afterwards in a fixed order, so a run is reproducible bit for bit
-// for a given thread count, and differs between thread counts only by round-off.
+// The cohesive contact pass for host threads: eqs 2-5 over a half neighbour list (each pair evaluated once)
+// with the per-pair constants of CohesivePairTable, in two phases:
+//   1. over all pairs, flat: the force and both torques of pair k go to per-pair arrays. No pair writes to a
+//      particle, so the loop vectorises (built for x86-64, AVX2 and AVX-512, picked at run time);
+//   2. over particles: each sums its own pairs, then the pairs where it is the partner (a transposed index
+//      built with the list), in a fixed order.
+// No atomics, no per-thread buffers, and the sum order does not depend on the thread count, so results are
+// the same bit for bit on 1 or 2 threads. Host threads only: the full-list pass (kernels/cohesive_contact.hpp)
+// is the GPU path, and the reference this one is tested against.
 #include <vector>
 
 #include "core/box.hpp"
@@ -17,18 +20,21 @@ class Particles;
 class NeighborList;
 class ContactHistory;
 
-/// Force and torque buffers of threads 1.. (thread 0 writes into the particle arrays).
-struct ThreadForceBuffers {
-  std::vector<double> data;  // (threads - 1) x 6 x n
-  int threads = 1;
-  int n = 0;
-  std::size_t bytes() const { return sizeof(double) * data.capacity(); }
+/// Per-pair results of phase 1 and the transposed index for phase 2, sized with the list.
+struct HalfPassScratch {
+  std::vector<int> row_of;     // i of each pair k
+  std::vector<int> in_offset;  // pairs where particle j is the partner: in_entry[in_offset[j] .. in_offset[j+1])
+  std::vector<int> in_entry;
+  std::vector<double> fx, fy, fz, tix, tiy, tiz, tjx, tjy, tjz;  // force on i, torques on i and on j
+
+  /// Rebuilds row_of and the transposed index (after every list rebuild).
+  void index(const NeighborList& list);
+  std::size_t bytes() const;
 };
 
-/// Adds the pair forces and torques to f and t. `list` must be a half list; the history is per pair, as
-/// seen from the row's particle.
+/// Adds the pair forces and torques to f and t. `list` must be a half list, `scratch` indexed for it.
 void cohesive_contact_pass_half(const CohesivePairTable& table, const CohesiveOptions& opt, const BoxView& box,
                                 Particles& p, const NeighborList& list, ContactHistory& history, double dt,
-                                int update_history, ThreadForceBuffers& buffers);
+                                int update_history, HalfPassScratch& scratch);
 
 }  // namespace debris

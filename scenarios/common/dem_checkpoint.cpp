@@ -221,7 +221,10 @@ DemSimulation DemSimulation::from_checkpoint(const std::string& path, std::strin
   // Derived data, recomputed exactly as the original run computed it.
   sim.coef_ = CohesiveCoefficients::from(sim.settings_.material);
   sim.limits_ = stability_limits(sim.coef_, sim.p_);
-  if (sim.pass_ == PairPass::half) sim.table_.build(sim.coef_, sim.p_, sim.list_);
+  if (sim.pass_ == PairPass::half) {
+    sim.table_.build(sim.coef_, sim.p_, sim.list_);
+    sim.scratch_.index(sim.list_);
+  }
   return sim;
 }
 

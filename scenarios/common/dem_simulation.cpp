@@ -112,7 +112,10 @@ void DemSimulation::rebuild(const std::vector<int>* order) {
   list_.build(box_.view(), p_, CohesiveCutoff{coef_}, max_cutoff_, skin_,
                pass_ == PairPass::half ? NeighborKind::half : NeighborKind::full);
   history_.carry_over(p_, list_);
-  if (pass_ == PairPass::half) table_.build(coef_, p_, list_);
+  if (pass_ == PairPass::half) {
+    table_.build(coef_, p_, list_);
+    scratch_.index(list_);
+  }
   ++times_.rebuilds;
   times_.neighbours += seconds_since(t0);
 }
@@ -122,7 +125,7 @@ void DemSimulation::compute_forces(int update_history) {
   zero_forces(p_);
   if (pass_ == PairPass::half)
     cohesive_contact_pass_half(table_, settings_.options, box_.view(), p_, list_, history_, dt_, update_history,
-                               buffers_);
+                               scratch_);
   else
     cohesive_contact_pass(coef_, settings_.options, box_.view(), p_, list_, history_, dt_, update_history);
   times_.contact += seconds_since(t0);
@@ -133,14 +136,17 @@ void DemSimulation::compute_forces(int update_history) {
 }
 
 void DemSimulation::recompute_forces() {
-  if (pass_ == PairPass::half) table_.build(coef_, p_, list_);
+  if (pass_ == PairPass::half) {
+    table_.build(coef_, p_, list_);
+    scratch_.index(list_);
+  }
   compute_forces(0);
 }
 
 double DemSimulation::bytes_per_particle() const {
   const double n = static_cast<double>(p_.size());
   return static_cast<double>(Particles::bytes_per_particle()) +
-         static_cast<double>(list_.bytes() + history_.bytes() + table_.bytes() + buffers_.bytes()) / n;
+         static_cast<double>(list_.bytes() + history_.bytes() + table_.bytes() + scratch_.bytes()) / n;
 }
 
 void DemSimulation::step() {

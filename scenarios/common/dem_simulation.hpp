@@ -126,7 +126,7 @@ class DemSimulation {
   CellList sorter_;
   ContactHistory history_;
   CohesivePairTable table_;
-  ThreadForceBuffers buffers_;
+  HalfPassScratch scratch_;
   PairPass pass_ = PairPass::full;
   double dt_ = 0, damping_ = 0, skin_ = 0, max_cutoff_ = 0;
   long step_ = 0;
