@@ -1,13 +1,24 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages debris builds with (nothing is downloaded at configure time).
+#   --tests  also what the whole test suite needs: ParaView's pvpython (python3-paraview, about 1.2 GB
+#            installed), which opens the HDF5/XDMF trajectory in the ParaViewOpensTrajectory test.
 # Skips apt entirely when everything is already there; uses sudo only when not root.
 set -euo pipefail
+with_tests=0
+for arg in "$@"; do
+  case "$arg" in
+    --tests) with_tests=1 ;;
+    *) echo "install-debian-deps.sh: unknown option '$arg' (valid: --tests)" >&2; exit 2 ;;
+  esac
+done
 packages=(
   g++ cmake make
   libeigen3-dev libhdf5-dev libyaml-cpp-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gcc-12-offload-nvptx   # the DEBRIS_OFFLOAD=nvptx configuration (GCC 12 OpenMP offload to NVIDIA GPUs)
+  python3                # bench/perf_check.py
 )
+[ "$with_tests" -eq 0 ] || packages+=(python3-paraview)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -20,4 +31,4 @@ SUDO=""
 [ "$(id -u)" -eq 0 ] || SUDO="sudo"
 echo "debris: installing ${missing[*]}"
 $SUDO apt-get update -qq
-DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${missing[@]}"
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

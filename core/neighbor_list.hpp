@@ -58,7 +58,9 @@ inline int neighbor_row(int i, const double* x, const double* y, const double* z
         for (int k = cell_start[cell]; k < end; ++k) {
           const int j = sorted[k];
           if (j == i || (half && j < i)) continue;
-          const Vec3 d = minimum_image(b, Vec3{xi - x[j], yi - y[j], zi - z[j]});
+          // Positions are wrapped at a build, so separations are below one box length: no floor() needed.
+          const Vec3 d{nearest_image(xi - x[j], b.len[0], b.periodic[0]), nearest_image(yi - y[j], b.len[1], b.periodic[1]),
+                       nearest_image(zi - z[j], b.len[2], b.periodic[2])};
           const double rc = cutoff(ri, r[j]) + skin;
           if (norm2(d) < rc * rc) {
             if (out) out[count] = j;
@@ -78,6 +80,7 @@ class NeighborList {
   /// Builds rows for all particles: j is a neighbour of i if |minimum_image(x_i - x_j)| < cutoff(r_i, r_j) + skin.
   /// cutoff: any callable double(double ri, double rj), symmetric, legal in a kernel (e.g. CohesiveCutoff).
   /// max_cutoff: upper bound of cutoff over all pairs; the cells have edge >= max_cutoff + skin.
+  /// Positions on periodic axes must be wrapped into the box (Box::wrap), as at every engine rebuild.
   /// Throws InputError: "neighbor.max_cutoff" / "neighbor.skin" for bad values or when
   /// cutoff(r_max, r_max) > max_cutoff, "box.<axis>" when a periodic axis is shorter than
   /// 2 (max_cutoff + skin) (minimum image would be ambiguous).

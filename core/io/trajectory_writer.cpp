@@ -17,7 +17,11 @@ namespace debris {
 
 namespace {
 
-constexpr unsigned kFramesPerLeaf = 256;
+// Linking a frame rewrites the index of /frames in place, which a kill between two writes cannot damage;
+// splitting a full index leaf or moving a full heap of names can (a kill mid-way leaves pointers past the
+// end of file that the superblock records). Sizing both up front makes those events rare: a leaf split every 256 frames after the first 512,
+// a heap move after 8192 frames (names take 8 bytes each). The price is ~85 KiB rewritten per frame.
+constexpr unsigned kFramesPerLeaf = 512;
 constexpr std::size_t kFrameNameBytes = 8 * 8192;
 
 /// Shortest text that reads back as the same double.
@@ -44,7 +48,7 @@ std::string xml_escaped(const std::string& s) {
 /// One <DataItem> that points into the .h5; `dims` is "N" or "N 3".
 void data_item(std::string& x, const std::string& dims, const char* number_type, int precision,
                const std::string& h5_name, std::size_t frame, const char* dataset) {
-  x += "        <DataItem Dimensions=\"" + dims + "\" NumberType=\"" + number_type + "\" Precision=\"" +
+  x += "          <DataItem Dimensions=\"" + dims + "\" NumberType=\"" + number_type + "\" Precision=\"" +
        std::to_string(precision) + "\" Format=\"HDF\">" + h5_name + ":/frames/" + std::to_string(frame) + "/" +
        dataset + "</DataItem>\n";
 }
@@ -100,7 +104,10 @@ void TrajectoryWriter::write_frame(long step, double time, const Box& box, const
 
   const std::size_t k = frames_.size();
   {
-    // Open, write, flush, close: between frames the file is closed, so a kill there cannot damage it.
+    // The file is open only inside this block: a kill between frames finds it closed and complete.
+    // Within the block, a two-step commit: the frame is built as a group linked nowhere and flushed, so
+    // its data and the new end of file are on disk before anything the file already held is touched;
+    // only then does linking it as /frames/<k> rewrite the index of /frames, and close() flushes that.
     h5::File file(h5_path_, h5::File::Mode::read_write, {.file_locking = false});
     {
       h5::Group g = file.create_unlinked_group({.small = true});
@@ -137,12 +144,12 @@ void TrajectoryWriter::write_xmf() const {
   for (std::size_t k = 0; k < frames_.size(); ++k) {
     const Frame& f = frames_[k];
     const std::string n = std::to_string(f.particles);
-    x += "    <Grid Name=\"step " + std::to_string(f.step) + "\" GridType=\"Uniform\">\n";
-    x += "      <Time Value=\"" + text_of(f.time) + "\"/>\n";
-    x += "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" + n + "\"/>\n";
-    x += "      <Geometry GeometryType=\"XYZ\">\n";
+    x += "      <Grid Name=\"step " + std::to_string(f.step) + "\" GridType=\"Uniform\">\n";
+    x += "        <Time Value=\"" + text_of(f.time) + "\"/>\n";
+    x += "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" + n + "\"/>\n";
+    x += "        <Geometry GeometryType=\"XYZ\">\n";
     data_item(x, n + " 3", "Float", 8, h5, k, "position");
-    x += "      </Geometry>\n";
+    x += "        </Geometry>\n";
     struct Field {
       const char* name;
       bool vector;
@@ -152,12 +159,12 @@ void TrajectoryWriter::write_xmf() const {
     for (const Field& a : {Field{"id", false, "Int", 8}, Field{"type", false, "Int", 4}, Field{"radius", false, "Float", 8},
                            Field{"group", false, "Int", 4}, Field{"velocity", true, "Float", 8},
                            Field{"force", true, "Float", 8}}) {
-      x += std::string("      <Attribute Name=\"") + a.name + "\" AttributeType=\"" + (a.vector ? "Vector" : "Scalar") +
+      x += std::string("        <Attribute Name=\"") + a.name + "\" AttributeType=\"" + (a.vector ? "Vector" : "Scalar") +
            "\" Center=\"Node\">\n";
       data_item(x, a.vector ? n + " 3" : n, a.number_type, a.precision, h5, k, a.name);
-      x += "      </Attribute>\n";
+      x += "        </Attribute>\n";
     }
-    x += "    </Grid>\n";
+    x += "      </Grid>\n";
   }
   x += "    </Grid>\n  </Domain>\n</Xdmf>\n";
 

@@ -1,0 +1,341 @@
+// Google Benchmark suite of the cohesive DEM engine on the system of the benchmarks issue: a periodic FCC
+// packing (nearest-neighbour distance 100, diameters 100 +- 5%, periodic on all axes) of the paper's
+// Table 4 material (E = 1, nu = 0.15, sigma_mN = 0.2, sigma_mT = 0.1, gamma = 1.5, eta = 0.95, rho = 1,
+// s = 0: d_min = 30 < d < d_c = 150, delta_f = 30 inside the cutoff, 12 interacting neighbours each),
+// small random velocities, dt = 0.1 dt_c, N = 4,000 / 32,000 / 256,000 particles on 1 and 2 threads.
+//
+//   BM_Binning        CellList::build on the positions                        items = particles
+//   BM_NeighborBuild  NeighborList::build (full, CohesiveCutoff, engine skin)   items = particles
+//   BM_CohesivePass   zero_forces + the host pass over the half list (what the engine runs)  items = particles, pairs/s
+//   BM_CohesivePassFullList   the same over the full list (the GPU path)
+//   BM_Step           DemSimulation::step(), the whole engine                   items = particle-steps
+//   BM_Rebuild        DemSimulation::rebuild_neighbors(): wrap, sort by cell, build, carry the history
+//                     (what a step costs extra when a particle drifted skin/2; this packing is a stable
+//                     crystal and BM_Step reports how often that really happens: rebuilds_per_1k_steps)
+//
+// Arguments: N (particles) and threads (debris::exec::set_threads, OpenMP). Real time throughout: the
+// OpenMP workers' CPU time is not the benchmark thread's. One system per N is built on first use and kept
+// (setup is not timed); BM_Step's simulation keeps stepping from call to call.
+//
+// Counters: bytes_per_particle = (particle columns + neighbour list with its cell list + contact history)
+// / N, from Particles::bytes_per_particle() and the objects' bytes(); for BM_Step and BM_Rebuild it is the
+// engine's DemSimulation::bytes_per_particle(), which also counts what its contact pass holds (B_other).
+// B_* break it down per particle. entries_per_particle = entries / N of the list the benchmark uses: the
+// pass benchmarks build a full list (each pair twice), the engine may keep a half list (half_list = 1).
+// contacts_per_particle = interacting neighbours (dN <= delta_f) per particle. BM_Step's cell list for
+// sorting (DemSimulation::sorter_) is not exposed and not counted.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+#include "core/cell_list.hpp"
+#include "core/contact_history.hpp"
+#include "core/exec.hpp"
+#include "core/lattice.hpp"
+#include "core/neighbor_list.hpp"
+#include "core/particles.hpp"
+#include "kernels/cohesive_contact.hpp"
+#include "kernels/cohesive_contact_half.hpp"
+#include "kernels/cohesive_pair_table.hpp"
+#include "kernels/cohesive_material.hpp"
+#include "kernels/integrate.hpp"
+#include "scenarios/common/dem_simulation.hpp"
+
+namespace debris {
+namespace {
+
+// Engine steps run once after set-up, untimed: the packing starts with overlaps of up to 5% of a diameter
+// (size spread) and relaxes; at N = 256,000 a particle drifts skin/2 in about 13 steps and triggers one
+// early rebuild. After that the crystal vibrates in place and never needs another (rebuilds_per_1k_steps
+// of BM_Step reports the rate actually seen; BM_Rebuild gives the cost of one).
+constexpr long kEngineWarmUpSteps = 20;
+// Contact passes run on the pass benchmarks' snapshot to load its tangential springs (zero when built).
+constexpr long kPassWarmUp = 3;
+
+CohesiveMaterial table4_material() {
+  CohesiveMaterial m;
+  m.youngs_modulus = 1;
+  m.poisson_ratio = 0.15;
+  m.tensile_strength = 0.2;
+  m.shear_strength = 0.1;
+  m.surface_energy = 1.5;
+  m.restitution = 0.95;
+  m.density = 1;
+  m.scaling = 0;
+  return m;
+}
+
+int cells_per_axis(int n) {
+  const int c = static_cast<int>(std::lround(std::cbrt(n / 4.0)));
+  if (4 * c * c * c != n) throw std::invalid_argument("bench: N must be 4 c^3 (FCC), got " + std::to_string(n));
+  return c;
+}
+
+/// Memory held by the engine's data per particle, from the objects themselves.
+struct Footprint {
+  double particles = 0, list = 0, cells = 0, history = 0;
+  double total() const { return particles + list + history; }  // list includes its cell list
+};
+
+Footprint footprint(std::size_t n, const NeighborList& list, const ContactHistory& history) {
+  const double dn = static_cast<double>(n);
+  Footprint f;
+  f.particles = static_cast<double>(Particles::bytes_per_particle());
+  f.list = static_cast<double>(list.bytes()) / dn;
+  f.cells = static_cast<double>(list.cells().bytes()) / dn;
+  f.history = static_cast<double>(history.bytes()) / dn;
+  return f;
+}
+
+struct DemSystem {
+  int n = 0;
+  // The whole engine, for BM_Step and BM_Rebuild.
+  std::unique_ptr<DemSimulation> sim;
+  // A snapshot of the engine after the warm-up steps, for the pass benchmarks: particles sorted by cell
+  // as the engine keeps them, a full neighbour list and a contact history of their own.
+  Box box;
+  Particles p;
+  CohesiveCoefficients coef{};
+  CohesiveOptions options;
+  double dt = 0, max_cutoff = 0, skin = 0;
+  NeighborList list;                  // full list: BM_CohesivePassFullList (the GPU path)
+  ContactHistory history;
+  std::vector<double> hx0, hy0, hz0;  // the snapshot's history, restored before every timed pass
+  NeighborList half;                  // half list: BM_CohesivePass (the host path the engine runs)
+  ContactHistory half_history;
+  CohesivePairTable table;
+  HalfPassScratch scratch;
+  std::vector<double> ghx0, ghy0, ghz0;
+  CellList cells;                     // BM_Binning's output
+  NeighborList built;                 // BM_NeighborBuild's output
+  double contacts_per_particle = 0;  // interacting neighbours per particle in the snapshot
+};
+
+DemSystem& dem_system(int n) {
+  static std::map<int, std::unique_ptr<DemSystem>> cache;
+  auto& slot = cache[n];
+  if (slot) return *slot;
+  auto s = std::make_unique<DemSystem>();
+  s->n = n;
+
+  LatticeSpec spec;
+  spec.kind = LatticeKind::fcc;
+  spec.spacing = 100;
+  spec.diameter = 100;
+  spec.size_spread = 0.05;
+  const int c = cells_per_axis(n);
+  spec.cells = {c, c, c};
+  spec.seed = 1;
+  Lattice lat = make_lattice(spec);
+  Particles& p = lat.particles;
+  std::mt19937_64 rng(12345);
+  std::uniform_real_distribution<double> u(-1e-3, 1e-3);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    p.vx[i] = u(rng);
+    p.vy[i] = u(rng);
+    p.vz[i] = u(rng);
+  }
+  DemSettings settings;
+  settings.material = table4_material();
+  settings.time_step_fraction = 0.1;
+  settings.global_damping = 0.0;
+  Box box(lat.box.lo(), lat.box.hi(), {true, true, true});
+  s->sim = std::make_unique<DemSimulation>(box, std::move(p), Groups{}, settings);
+  s->sim->run(kEngineWarmUpSteps);
+
+  // The pass benchmarks get their own full list (the engine may run a half-list pass) on the engine's
+  // current positions, sorted by cell as the engine keeps them, and a history advanced by a few passes so
+  // that the springs are loaded as in a running simulation.
+  const DemSimulation& sim = *s->sim;
+  s->box = sim.box();
+  s->p = sim.particles();
+  s->coef = sim.coefficients();
+  s->options = sim.settings().options;
+  s->dt = sim.dt();
+  s->max_cutoff = sim.max_cutoff();
+  s->skin = sim.skin();
+  s->list.build(s->box.view(), s->p, CohesiveCutoff{s->coef}, s->max_cutoff, s->skin, NeighborKind::full);
+  s->history.reset(s->list);
+  for (long k = 0; k < kPassWarmUp; ++k) {
+    zero_forces(s->p);
+    cohesive_contact_pass(s->coef, s->options, s->box.view(), s->p, s->list, s->history, s->dt, 1);
+  }
+  s->hx0 = s->history.hx;
+  s->hy0 = s->history.hy;
+  s->hz0 = s->history.hz;
+  s->half.build(s->box.view(), s->p, CohesiveCutoff{s->coef}, s->max_cutoff, s->skin, NeighborKind::half);
+  s->half_history.reset(s->half);
+  s->table.build(s->coef, s->p, s->half);
+  s->scratch.index(s->half);
+  for (long k = 0; k < kPassWarmUp; ++k) {
+    zero_forces(s->p);
+    cohesive_contact_pass_half(s->table, s->options, s->box.view(), s->p, s->half, s->half_history, s->dt, 1,
+                               s->scratch);
+  }
+  s->ghx0 = s->half_history.hx;
+  s->ghy0 = s->half_history.hy;
+  s->ghz0 = s->half_history.hz;
+  const CohesiveDiagnostics d = cohesive_diagnostics(s->coef, s->options, s->box.view(), s->p, s->list, s->history);
+  s->contacts_per_particle = 2.0 * static_cast<double>(d.interacting_pairs) / n;
+  slot = std::move(s);
+  return *slot;
+}
+
+/// entries_per_particle: of the list the benchmark uses (the engine's may be a half list: half_list = 1).
+void set_common_counters(benchmark::State& state, const DemSystem& s, const Footprint& f, const NeighborList& list,
+                         bool breakdown) {
+  state.counters["bytes_per_particle"] = f.total();
+  state.counters["entries_per_particle"] = static_cast<double>(list.entries()) / s.n;
+  state.counters["half_list"] = list.kind() == NeighborKind::half ? 1 : 0;
+  state.counters["contacts_per_particle"] = s.contacts_per_particle;
+  if (breakdown) {
+    state.counters["B_particles"] = f.particles;
+    state.counters["B_list"] = f.list;
+    state.counters["B_cells"] = f.cells;
+    state.counters["B_history"] = f.history;
+  }
+}
+
+/// The engine's own accounting, DemSimulation::bytes_per_particle(): particles, list, history and whatever
+/// else its contact pass holds (pair table, per-thread buffers: B_other).
+void set_engine_counters(benchmark::State& state, const DemSystem& s, const DemSimulation& sim, bool breakdown) {
+  const Footprint f = footprint(sim.particles().size(), sim.neighbors(), sim.history());
+  set_common_counters(state, s, f, sim.neighbors(), breakdown);
+  state.counters["bytes_per_particle"] = sim.bytes_per_particle();
+  if (breakdown) state.counters["B_other"] = sim.bytes_per_particle() - f.total();
+}
+
+void BM_Binning(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  exec::set_threads(static_cast<int>(state.range(1)));
+  DemSystem& s = dem_system(n);
+  const BoxView box = s.box.view();
+  for (auto _ : state) {
+    s.cells.build(box, s.p.x.data(), s.p.y.data(), s.p.z.data(), n, s.max_cutoff + s.skin);
+    benchmark::DoNotOptimize(s.cells.sorted_index().data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * n);
+  set_common_counters(state, s, footprint(s.p.size(), s.list, s.history), s.list, false);
+  state.counters["cells"] = s.cells.cell_count();
+}
+
+void BM_NeighborBuild(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  exec::set_threads(static_cast<int>(state.range(1)));
+  DemSystem& s = dem_system(n);
+  const BoxView box = s.box.view();
+  const CohesiveCutoff cutoff{s.coef};
+  for (auto _ : state) {
+    s.built.build(box, s.p, cutoff, s.max_cutoff, s.skin, NeighborKind::full);
+    benchmark::DoNotOptimize(s.built.index().data());
+    benchmark::ClobberMemory();
+  }
+  if (s.built.entries() != s.list.entries())
+    state.SkipWithError("the rebuilt list differs in size from the snapshot's");
+  state.SetItemsProcessed(state.iterations() * n);
+  set_common_counters(state, s, footprint(s.p.size(), s.list, s.history), s.list, false);
+}
+
+void BM_CohesivePassFullList(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  exec::set_threads(static_cast<int>(state.range(1)));
+  DemSystem& s = dem_system(n);
+  const BoxView box = s.box.view();
+  for (auto _ : state) {
+    // Every timed pass starts from the same history, so it does the same work (springs would otherwise
+    // grow with every pass at fixed positions and end up all sliding).
+    state.PauseTiming();
+    std::copy(s.hx0.begin(), s.hx0.end(), s.history.hx.begin());
+    std::copy(s.hy0.begin(), s.hy0.end(), s.history.hy.begin());
+    std::copy(s.hz0.begin(), s.hz0.end(), s.history.hz.begin());
+    state.ResumeTiming();
+    zero_forces(s.p);
+    cohesive_contact_pass(s.coef, s.options, box, s.p, s.list, s.history, s.dt, 1);
+    benchmark::DoNotOptimize(s.p.fx.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * n);
+  state.counters["pairs/s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * s.list.entries(), benchmark::Counter::kIsRate);
+  set_common_counters(state, s, footprint(s.p.size(), s.list, s.history), s.list, true);
+}
+
+// The host contact pass the engine runs: half list, per-pair constants, two phases (vectorised pairs, then a
+// per-particle gather).
+void BM_CohesivePass(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  exec::set_threads(static_cast<int>(state.range(1)));
+  DemSystem& s = dem_system(n);
+  const BoxView box = s.box.view();
+  for (auto _ : state) {
+    state.PauseTiming();
+    std::copy(s.ghx0.begin(), s.ghx0.end(), s.half_history.hx.begin());
+    std::copy(s.ghy0.begin(), s.ghy0.end(), s.half_history.hy.begin());
+    std::copy(s.ghz0.begin(), s.ghz0.end(), s.half_history.hz.begin());
+    state.ResumeTiming();
+    zero_forces(s.p);
+    cohesive_contact_pass_half(s.table, s.options, box, s.p, s.half, s.half_history, s.dt, 1, s.scratch);
+    benchmark::DoNotOptimize(s.p.fx.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * n);
+  state.counters["pairs/s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * s.half.entries(), benchmark::Counter::kIsRate);
+  set_common_counters(state, s, footprint(s.p.size(), s.half, s.half_history), s.half, true);
+  state.counters["B_table_scratch"] = static_cast<double>(s.table.bytes() + s.scratch.bytes()) / n;
+}
+
+void BM_Step(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  exec::set_threads(static_cast<int>(state.range(1)));
+  DemSystem& s = dem_system(n);
+  DemSimulation& sim = *s.sim;
+  const long rebuilds0 = sim.times().rebuilds;
+  for (auto _ : state) {
+    sim.step();
+  }
+  const long rebuilds = sim.times().rebuilds - rebuilds0;
+  state.SetItemsProcessed(state.iterations() * n);
+  state.counters["rebuilds_per_1k_steps"] = 1000.0 * static_cast<double>(rebuilds) / static_cast<double>(state.iterations());
+  state.counters["steps_since_setup"] = static_cast<double>(sim.step_count());
+  if (first_non_finite(sim.particles()) >= 0) state.SkipWithError("the simulation blew up");
+  set_engine_counters(state, s, sim, true);
+}
+
+void BM_Rebuild(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  exec::set_threads(static_cast<int>(state.range(1)));
+  DemSystem& s = dem_system(n);
+  DemSimulation& sim = *s.sim;
+  for (auto _ : state) {
+    sim.rebuild_neighbors();
+  }
+  state.SetItemsProcessed(state.iterations() * n);
+  set_engine_counters(state, s, sim, false);
+}
+
+void dem_args(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"N", "threads"});
+  for (int n : {4000, 32000, 256000})
+    for (int t : {1, 2}) b->Args({n, t});
+  b->UseRealTime();
+  b->Unit(benchmark::kMillisecond);
+}
+
+BENCHMARK(BM_Binning)->Apply(dem_args);
+BENCHMARK(BM_NeighborBuild)->Apply(dem_args);
+BENCHMARK(BM_CohesivePass)->Apply(dem_args);
+BENCHMARK(BM_CohesivePassFullList)->Apply(dem_args);
+BENCHMARK(BM_Step)->Apply(dem_args);
+BENCHMARK(BM_Rebuild)->Apply(dem_args);
+
+}  // namespace
+}  // namespace debris

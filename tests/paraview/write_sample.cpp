@@ -1,0 +1,82 @@
+// Writes a small known trajectory for the ParaView test: OUTPUT_DIR/sample.{h5,xmf} through
+// TrajectoryWriter, and OUTPUT_DIR/expected.json with what ParaView must show (check_trajectory.py).
+// Particles are stored out of id order and the last frame has more of them, as in a real run.
+#include <algorithm>
+#include <charconv>
+#include <cstdint>
+#include <cstdio>
+#include <exception>
+#include <fstream>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "core/io/trajectory_writer.hpp"
+
+namespace {
+
+using debris::Particles;
+
+/// Shortest text that reads back as the same double (valid JSON for finite values).
+std::string num(double v) {
+  char buf[32];
+  const auto res = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, res.ptr);
+}
+
+Particles frame(int k) {
+  std::vector<std::int64_t> ids = {50, 3, 27, 8, 14};
+  if (k == 2) ids.insert(ids.end(), {1, 99, 33});
+  Particles p;
+  for (std::int64_t id : ids) {
+    const double d = static_cast<double>(id);
+    // -d/3 needs all 17 digits, so a reader that loses precision shows up.
+    const std::size_t i = p.add(id, 1 + static_cast<int>(id % 2), 0.5 * d + k, -d / 3.0, 0.125 * k, 0.1 + d / 1000.0);
+    p.vx[i] = 1.0, p.vy[i] = -d, p.vz[i] = 0.0;
+    p.fx[i] = 0.0, p.fy[i] = 0.0, p.fz[i] = -9.81 * d;
+    p.group[i] = id < 10 ? 0 : -1;
+  }
+  return p;
+}
+
+const double kTimes[] = {0.0, 0.25, 0.5};
+
+/// One frame as ParaView must show it: points in id order.
+std::string expected_frame(const Particles& p) {
+  std::vector<std::size_t> order(p.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&p](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+  std::string ids, pos, rad;
+  for (std::size_t i : order) {
+    const std::string sep = ids.empty() ? "" : ", ";
+    ids += sep + std::to_string(p.id[i]);
+    pos += sep + "[" + num(p.x[i]) + ", " + num(p.y[i]) + ", " + num(p.z[i]) + "]";
+    rad += sep + num(p.radius[i]);
+  }
+  return "{\"points\": " + std::to_string(p.size()) + ", \"id\": [" + ids + "], \"position\": [" + pos +
+         "], \"radius\": [" + rad + "]}";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: %s OUTPUT_DIR\n", argv[0]);
+    return 2;
+  }
+  const std::string dir = argv[1];
+  try {
+    const debris::Box box({-1, -40, -1}, {60, 1, 1}, {true, false, true});
+    debris::TrajectoryWriter w(dir, "sample", {"small_ids"});
+    for (int k = 0; k < 3; ++k) w.write_frame(100L * k, kTimes[k], box, frame(k));
+    std::ofstream json(dir + "/expected.json");
+    json << "{\"times\": [" << num(kTimes[0]) << ", " << num(kTimes[1]) << ", " << num(kTimes[2]) << "],\n"
+         << " \"first\": " << expected_frame(frame(0)) << ",\n"
+         << " \"last\": " << expected_frame(frame(2)) << "}\n";
+    if (!json.flush()) throw std::runtime_error("cannot write " + dir + "/expected.json");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "write_sample: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
