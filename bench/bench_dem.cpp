@@ -59,19 +59,6 @@ constexpr long kEngineWarmUpSteps = 20;
 // Contact passes run on the pass benchmarks' snapshot to load its tangential springs (zero when built).
 constexpr long kPassWarmUp = 3;
 
-CohesiveMaterial table4_material() {
-  CohesiveMaterial m;
-  m.youngs_modulus = 1;
-  m.poisson_ratio = 0.15;
-  m.tensile_strength = 0.2;
-  m.shear_strength = 0.1;
-  m.surface_energy = 1.5;
-  m.restitution = 0.95;
-  m.density = 1;
-  m.scaling = 0;
-  return m;
-}
-
 int cells_per_axis(int n) {
   const int c = static_cast<int>(std::lround(std::cbrt(n / 4.0)));
   if (4 * c * c * c != n) throw std::invalid_argument("bench: N must be 4 c^3 (FCC), got " + std::to_string(n));

@@ -12,13 +12,6 @@ namespace debris {
 
 namespace {
 
-std::string str(double v) {
-  std::ostringstream os;
-  os.precision(12);
-  os << v;
-  return os.str();
-}
-
 // Through a stream: GCC 12 warns falsely (-Wrestrict) on chains of std::string operator+.
 template <class T>
 std::string triple(T a, T b, T c) {
@@ -86,11 +79,11 @@ Vec3 lattice_period(const LatticeSpec& spec) {
 }
 
 void validate(const LatticeSpec& s, const std::string& prefix) {
-  require(std::isfinite(s.spacing) && s.spacing > 0, prefix, "spacing", str(s.spacing), "must be > 0");
-  require(std::isfinite(s.diameter) && s.diameter > 0, prefix, "diameter", str(s.diameter), "must be > 0");
+  require(std::isfinite(s.spacing) && s.spacing > 0, prefix, "spacing", format_value(s.spacing), "must be > 0");
+  require(std::isfinite(s.diameter) && s.diameter > 0, prefix, "diameter", format_value(s.diameter), "must be > 0");
   require(std::isfinite(s.size_spread) && s.size_spread >= 0 && s.size_spread < 1, prefix, "size_spread",
-          str(s.size_spread), "must be in [0, 1) (relative half-width of the diameter spread)");
-  require(std::isfinite(s.displacement) && s.displacement >= 0, prefix, "displacement", str(s.displacement),
+          format_value(s.size_spread), "must be in [0, 1) (relative half-width of the diameter spread)");
+  require(std::isfinite(s.displacement) && s.displacement >= 0, prefix, "displacement", format_value(s.displacement),
           "must be >= 0 (absolute amplitude)");
   const std::string cells = triple(s.cells[0], s.cells[1], s.cells[2]);
   require(s.cells[0] >= 1 && s.cells[1] >= 1 && s.cells[2] >= 1, prefix, "cells", cells, "every entry must be >= 1");

@@ -11,15 +11,6 @@
 
 namespace debris {
 
-namespace {
-std::string str(double v) {
-  std::ostringstream os;
-  os.precision(12);
-  os << v;
-  return os.str();
-}
-}  // namespace
-
 double NeighborList::max_radius(const Particles& p) {
   const int n = static_cast<int>(p.size());
   const double* __restrict r = p.radius.data();
@@ -32,19 +23,19 @@ double NeighborList::max_radius(const Particles& p) {
 void NeighborList::check(const BoxView& box, const Particles& p, double max_cutoff, double skin,
                          double r_max_cutoff) const {
   if (!(std::isfinite(max_cutoff) && max_cutoff > 0))
-    throw input_error("neighbor.max_cutoff", str(max_cutoff), "must be finite and > 0");
-  if (!(std::isfinite(skin) && skin >= 0)) throw input_error("neighbor.skin", str(skin), "must be finite and >= 0");
+    throw input_error("neighbor.max_cutoff", format_value(max_cutoff), "must be finite and > 0");
+  if (!(std::isfinite(skin) && skin >= 0)) throw input_error("neighbor.skin", format_value(skin), "must be finite and >= 0");
   // The largest pair is the usual way to get max_cutoff wrong; a too small bound silently loses pairs.
   if (r_max_cutoff > max_cutoff * (1.0 + 1e-12))
-    throw input_error("neighbor.max_cutoff", str(max_cutoff),
-                      "is smaller than the cutoff of two of the largest particles, " + str(r_max_cutoff));
+    throw input_error("neighbor.max_cutoff", format_value(max_cutoff),
+                      "is smaller than the cutoff of two of the largest particles, " + format_value(r_max_cutoff));
   if (p.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
     throw input_error("particles", std::to_string(p.size()), "more particles than an int can index");
   const double reach = max_cutoff + skin;
   for (int a = 0; a < 3; ++a) {
     if (box.periodic[a] && box.len[a] < 2.0 * reach)
-      throw input_error(std::string("box.") + "xyz"[a], str(box.len[a]),
-                        "a periodic axis must be at least 2 * (max_cutoff + skin) = " + str(2.0 * reach) +
+      throw input_error(std::string("box.") + "xyz"[a], format_value(box.len[a]),
+                        "a periodic axis must be at least 2 * (max_cutoff + skin) = " + format_value(2.0 * reach) +
                             " long, or the minimum image of a neighbour pair would be ambiguous");
   }
 }

@@ -10,14 +10,8 @@
 namespace debris {
 
 namespace {
-std::string str(double v) {
-  std::ostringstream os;
-  os.precision(12);
-  os << v;
-  return os.str();
-}
 void require(bool ok, const char* prefix, const char* key, double value, const char* valid) {
-  if (!ok) throw input_error(std::string(prefix) + "." + key, str(value), valid);
+  if (!ok) throw input_error(std::string(prefix) + "." + key, format_value(value), valid);
 }
 }  // namespace
 
@@ -37,6 +31,13 @@ void CohesiveMaterial::validate(const char* prefix) const {
   require(finite(scaling) && scaling >= 0 && scaling <= 1, prefix, "scaling", scaling,
           "must be in [0, 1] (eq 10: 0 keeps the strength, 0.5 the surface energy)");
 }
+
+CohesiveMaterial table4_material(double scaling) {
+  // E, nu, sigma_mN, sigma_mT, gamma, eta, rho, s
+  return CohesiveMaterial{1.0, 0.15, 0.2, 0.1, 1.5, 0.95, 1.0, scaling};
+}
+
+CohesiveMaterial silica_material() { return CohesiveMaterial{73e9, 0.17, 16e9, 9e9, 1.5, 0.9, 2200.0, 0.5}; }
 
 double CohesiveMaterial::critical_diameter() const {
   return 4.0 * surface_energy * youngs_modulus / (tensile_strength * tensile_strength);

@@ -28,6 +28,11 @@ struct CohesiveMaterial {
   double minimum_diameter() const;   // d_min, eq 19
 };
 
+/// Table 4 of the paper: the material of the patch tests (no units; d_min = 30, d_c = 150).
+CohesiveMaterial table4_material(double scaling = 0.0);
+/// Table 5: amorphous silica, SI units (d_min = 0.375 nm, d_c = 1.71 nm), with s = 0.5 as in section 4.
+CohesiveMaterial silica_material();
+
 /// The seven force parameters of Table 2 for one pair.
 struct CohesivePairParams {
   double k_n;      // normal stiffness, eq 7

@@ -12,31 +12,9 @@
 namespace debris {
 namespace {
 
-CohesiveMaterial table4(double s = 0.0) {  // Table 4: patch-test material, no units
-  CohesiveMaterial m;
-  m.youngs_modulus = 1;
-  m.poisson_ratio = 0.15;
-  m.tensile_strength = 0.2;
-  m.shear_strength = 0.1;
-  m.surface_energy = 1.5;
-  m.restitution = 0.95;
-  m.density = 1;
-  m.scaling = s;
-  return m;
-}
+CohesiveMaterial table4(double s = 0.0) { return table4_material(s); }
 
-CohesiveMaterial silica() {  // Table 5: amorphous silica, SI
-  CohesiveMaterial m;
-  m.youngs_modulus = 73e9;
-  m.poisson_ratio = 0.17;
-  m.tensile_strength = 16e9;
-  m.shear_strength = 9e9;
-  m.surface_energy = 1.5;
-  m.restitution = 0.9;
-  m.density = 2200;
-  m.scaling = 0.5;
-  return m;
-}
+CohesiveMaterial silica() { return silica_material(); }
 
 double sphere_mass(double rho, double r) { return rho * 4.0 / 3.0 * std::numbers::pi * r * r * r; }
 

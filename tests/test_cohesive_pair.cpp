@@ -19,15 +19,8 @@ struct Regime {
 };
 
 CohesiveCoefficients coefficients(const Regime& r) {
-  CohesiveMaterial m;  // Table 4: d_min = 30, d_c = 150
-  m.youngs_modulus = 1;
-  m.poisson_ratio = 0.15;
-  m.tensile_strength = 0.2;
-  m.shear_strength = 0.1;
-  m.surface_energy = 1.5;
+  CohesiveMaterial m = table4_material(r.s);  // d_min = 30, d_c = 150
   m.restitution = r.eta;
-  m.density = 1;
-  m.scaling = r.s;
   return CohesiveCoefficients::from(m);
 }
 

@@ -20,15 +20,8 @@ namespace debris {
 namespace {
 
 CohesiveMaterial table4(double eta = 0.95, double s = 0.0) {
-  CohesiveMaterial m;
-  m.youngs_modulus = 1;
-  m.poisson_ratio = 0.15;
-  m.tensile_strength = 0.2;
-  m.shear_strength = 0.1;
-  m.surface_energy = 1.5;
+  CohesiveMaterial m = table4_material(s);
   m.restitution = eta;
-  m.density = 1;
-  m.scaling = s;
   return m;
 }
 

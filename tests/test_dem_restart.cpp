@@ -44,13 +44,8 @@ DemSimulation sheared_system(PairPass pass) {
     else if (p.x[i] < 200) p.group[i] = gp;
   }
   DemSettings s;
-  s.material.youngs_modulus = 1;
-  s.material.poisson_ratio = 0.15;
-  s.material.tensile_strength = 0.2;
-  s.material.shear_strength = 0.1;
-  s.material.surface_energy = 1.5;
+  s.material = table4_material();
   s.material.restitution = 0.9;
-  s.material.density = 1;
   s.time_step_fraction = 0.1;
   s.global_damping = 0.02;
   s.skin = 0.5;  // small: many rebuilds on both sides of the checkpoint

@@ -16,6 +16,7 @@
 #include <unordered_map>
 
 #include "core/error.hpp"
+#include "core/io/text_format.hpp"
 
 namespace debris {
 
@@ -270,20 +271,6 @@ LammpsData read_lammps_data(const std::string& path, std::array<bool, 3> periodi
 
 namespace {
 
-/// Full double precision, %.17g, whatever the locale.
-void put(std::string& out, double v) {
-  char buf[32];
-  const auto res = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 17);
-  out.append(buf, res.ptr);
-}
-
-template <class Int>
-void put(std::string& out, Int v) {
-  char buf[24];
-  const auto res = std::to_chars(buf, buf + sizeof buf, v);
-  out.append(buf, res.ptr);
-}
-
 /// The density that read_lammps_data turns back into exactly mass `m`, as short as possible: particles of
 /// one material share a density, so `hint` (the last density used for this type) usually answers at once;
 /// otherwise m / V is rounded to ever more digits ("2000", not "1999.9999999999998"), and as a last resort
@@ -338,16 +325,16 @@ void write_lammps_data(const std::string& path, const Box& box, const Particles&
   };
 
   out += "LAMMPS data file written by debris (atom_style sphere)\n\n";
-  put(out, static_cast<std::int64_t>(p.size()));
+  append_number(out, static_cast<std::int64_t>(p.size()));
   out += " atoms\n";
-  put(out, atom_types);
+  append_number(out, atom_types);
   out += " atom types\n\n";
   const Vec3 lo = box.lo(), hi = box.hi();
   const double los[3] = {lo.x, lo.y, lo.z}, his[3] = {hi.x, hi.y, hi.z};
   for (int a = 0; a < 3; ++a) {
-    put(out, los[a]);
+    append_number(out, los[a]);
     out += ' ';
-    put(out, his[a]);
+    append_number(out, his[a]);
     out += std::string(" ") + char('x' + a) + "lo " + char('x' + a) + "hi\n";
   }
   out += "\nAtoms # sphere\n\n";
@@ -355,26 +342,26 @@ void write_lammps_data(const std::string& path, const Box& box, const Particles&
   for (std::size_t k : order) {
     double& density = density_of_type[static_cast<std::size_t>(p.type[k])];
     density = density_for(p.mass[k], p.radius[k], density);
-    put(out, p.id[k]);
+    append_number(out, p.id[k]);
     out += ' ';
-    put(out, p.type[k]);
+    append_number(out, p.type[k]);
     for (double v : {2 * p.radius[k], density, p.x[k], p.y[k], p.z[k]}) {
       out += ' ';
-      put(out, v);
+      append_number(out, v);
     }
     for (int v : {p.ix[k], p.iy[k], p.iz[k]}) {
       out += ' ';
-      put(out, v);
+      append_number(out, v);
     }
     out += '\n';
     drain(1 << 20);
   }
   out += "\nVelocities\n\n";
   for (std::size_t k : order) {
-    put(out, p.id[k]);
+    append_number(out, p.id[k]);
     for (double v : {p.vx[k], p.vy[k], p.vz[k], p.wx[k], p.wy[k], p.wz[k]}) {
       out += ' ';
-      put(out, v);
+      append_number(out, v);
     }
     out += '\n';
     drain(1 << 20);

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
+#include "core/io/text_format.hpp"
 
 namespace debris {
 
@@ -66,12 +67,9 @@ void ThermoCsv::write_row(const std::vector<double>& values) {
     throw std::logic_error("ThermoCsv '" + path_ + "': row has " + std::to_string(values.size()) +
                            " values for " + std::to_string(columns_.size()) + " columns");
   std::string line;
-  char buf[32];
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (i > 0) line += ',';
-    // Full double precision (%.17g), independent of the locale's decimal separator.
-    const auto res = std::to_chars(buf, buf + sizeof buf, values[i], std::chars_format::general, 17);
-    line.append(buf, res.ptr);
+    append_number(line, values[i]);
   }
   line += '\n';
   out_.write(line.data(), static_cast<std::streamsize>(line.size()));

@@ -17,13 +17,6 @@ namespace {
 
 using units::Dimension;
 
-std::string num(double v) {
-  std::ostringstream os;
-  os.precision(10);
-  os << v;
-  return os.str();
-}
-
 int axis_of(const InputNode& n, const std::string& key, const std::string& fallback) {
   const std::string a = n.choice(key, {"x", "y", "z"}, fallback);
   return a == "x" ? 0 : (a == "y" ? 1 : 2);
@@ -55,7 +48,7 @@ LatticeSpec read_lattice(const InputNode& l) {
   for (int a = 0; a < 3; ++a) {
     const double c = cells[static_cast<std::size_t>(a)].quantity(units::dimensionless);
     if (c != std::floor(c) || c < 1 || c > 1e6)
-      throw input_error(l.path() + ".cells", num(c), "cell counts must be whole numbers >= 1");
+      throw input_error(l.path() + ".cells", format_value(c), "cell counts must be whole numbers >= 1");
     spec.cells[static_cast<std::size_t>(a)] = static_cast<int>(c);
   }
   spec.origin = l.vec3("origin", units::length, Vec3{0, 0, 0});
@@ -131,7 +124,7 @@ void read_groups(const InputNode& root, DemRunConfig& cfg) {
         if (b.size() != 2) throw input_error(r.path() + "." + ax, std::to_string(b.size()) + " values", "give [lo, hi]");
         lo[a] = read_bound(b[0]);
         hi[a] = read_bound(b[1]);
-        if (!(hi[a] > lo[a])) throw input_error(r.path() + "." + ax, "[" + num(lo[a]) + ", " + num(hi[a]) + "]", "hi must exceed lo");
+        if (!(hi[a] > lo[a])) throw input_error(r.path() + "." + ax, "[" + format_value(lo[a]) + ", " + format_value(hi[a]) + "]", "hi must exceed lo");
       }
     }
     std::vector<long> types, ids;
@@ -212,15 +205,15 @@ DemRunConfig read_dem_input(const InputNode& root, const std::string& base_direc
   if (run.has("time_step") && run.has("time_step_fraction"))
     throw input_error("run.time_step", "given with time_step_fraction", "give one of time_step (absolute) or time_step_fraction (of dt_c)");
   s.time_step = run.quantity("time_step", units::time, 0.0);
-  if (run.has("time_step") && !(s.time_step > 0.0)) throw input_error("run.time_step", num(s.time_step), "must be > 0");
+  if (run.has("time_step") && !(s.time_step > 0.0)) throw input_error("run.time_step", format_value(s.time_step), "must be > 0");
   s.time_step_fraction = run.quantity("time_step_fraction", units::dimensionless, 0.1);
   if (!(s.time_step_fraction > 0.0))
-    throw input_error("run.time_step_fraction", num(s.time_step_fraction), "must be > 0 (a fraction of dt_c, eq 6)");
+    throw input_error("run.time_step_fraction", format_value(s.time_step_fraction), "must be > 0 (a fraction of dt_c, eq 6)");
   s.allow_unstable_time_step = run.boolean("allow_unstable_time_step", false);
   s.global_damping = run.quantity("global_damping", units::dimensionless, 0.0);
-  if (!(s.global_damping >= 0.0)) throw input_error("run.global_damping", num(s.global_damping), "must be >= 0 (a fraction of c_c, eq 21)");
+  if (!(s.global_damping >= 0.0)) throw input_error("run.global_damping", format_value(s.global_damping), "must be >= 0 (a fraction of c_c, eq 21)");
   s.skin = run.quantity("skin", units::length, 0.0);
-  if (s.skin < 0.0) throw input_error("run.skin", num(s.skin), "must be >= 0");
+  if (s.skin < 0.0) throw input_error("run.skin", format_value(s.skin), "must be >= 0");
   s.options.adhesive = run.boolean("adhesive", true) ? 1 : 0;
   s.options.tangential = run.boolean("tangential", true) ? 1 : 0;
   s.masses_from_density = !masses_given;
@@ -244,7 +237,7 @@ DemRunConfig read_dem_input(const InputNode& root, const std::string& base_direc
       throw input_error("output.checkpoint_every", std::to_string(cfg.output.checkpoint_every), "must be >= 0");
     cfg.output.progress_seconds = out.quantity("progress_seconds", units::time, 10.0);
     if (!(cfg.output.progress_seconds > 0))
-      throw input_error("output.progress_seconds", num(cfg.output.progress_seconds), "must be > 0");
+      throw input_error("output.progress_seconds", format_value(cfg.output.progress_seconds), "must be > 0");
   }
   root.reject_unknown_keys();
   return cfg;

@@ -15,11 +15,6 @@ namespace debris {
 namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-std::string num(double v) {
-  std::ostringstream os;
-  os << std::setprecision(10) << v;
-  return os.str();
-}
 }  // namespace
 
 DemSimulation::DemSimulation(Box box, Particles particles, Groups groups, DemSettings settings)
@@ -37,10 +32,10 @@ void DemSimulation::setup() {
   for (std::size_t i = 0; i < p_.size(); ++i) {
     const double r = p_.radius[i];
     if (!(r > 0.0) || !std::isfinite(r))
-      throw input_error("particles.radius", num(r), "radius of particle id " + std::to_string(p_.id[i]) + " must be > 0");
+      throw input_error("particles.radius", format_value(r), "radius of particle id " + std::to_string(p_.id[i]) + " must be > 0");
     for (double c : {p_.x[i], p_.y[i], p_.z[i]})
       if (!std::isfinite(c))
-        throw input_error("particles.position", num(c), "particle id " + std::to_string(p_.id[i]) + " has a non-finite coordinate");
+        throw input_error("particles.position", format_value(c), "particle id " + std::to_string(p_.id[i]) + " has a non-finite coordinate");
   }
   if (settings_.masses_from_density) p_.set_mass_from_density(settings_.material.density);
   groups_.refresh_members(p_);
@@ -62,13 +57,13 @@ void DemSimulation::setup() {
     dt_ = settings_.time_step;
   } else {
     if (!(settings_.time_step_fraction > 0.0))
-      throw input_error("run.time_step_fraction", num(settings_.time_step_fraction), "must be > 0");
+      throw input_error("run.time_step_fraction", format_value(settings_.time_step_fraction), "must be > 0");
     dt_ = settings_.time_step_fraction * limits_.dt_c;
   }
-  if (!std::isfinite(dt_) || dt_ <= 0.0) throw input_error("run.time_step", num(dt_), "must be > 0");
+  if (!std::isfinite(dt_) || dt_ <= 0.0) throw input_error("run.time_step", format_value(dt_), "must be > 0");
   if (dt_ > limits_.dt_c && !settings_.allow_unstable_time_step)
-    throw input_error("run.time_step", num(dt_),
-                      "exceeds the critical time step dt_c = " + num(limits_.dt_c) +
+    throw input_error("run.time_step", format_value(dt_),
+                      "exceeds the critical time step dt_c = " + format_value(limits_.dt_c) +
                           " of eq 6 (semi-implicit Euler diverges above it); use a fraction of dt_c, or set "
                           "run.allow_unstable_time_step: true to insist");
   set_global_damping(settings_.global_damping);
@@ -78,7 +73,7 @@ void DemSimulation::setup() {
   const double r_min = *std::min_element(p_.radius.begin(), p_.radius.end());
   max_cutoff_ = CohesiveCutoff{coef_}(r_max, r_max);
   skin_ = settings_.skin > 0.0 ? settings_.skin : 0.2 * r_min;
-  if (settings_.skin < 0.0) throw input_error("run.skin", num(settings_.skin), "must be >= 0");
+  if (settings_.skin < 0.0) throw input_error("run.skin", format_value(settings_.skin), "must be >= 0");
 
   rebuild_neighbors();
   compute_forces(0);
@@ -86,7 +81,7 @@ void DemSimulation::setup() {
 
 void DemSimulation::set_global_damping(double fraction) {
   if (!(fraction >= 0.0) || !std::isfinite(fraction))
-    throw input_error("run.global_damping", num(fraction), "must be a fraction >= 0 of the critical damping");
+    throw input_error("run.global_damping", format_value(fraction), "must be a fraction >= 0 of the critical damping");
   settings_.global_damping = fraction;
   damping_ = fraction * limits_.c_c;
 }
