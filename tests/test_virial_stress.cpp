@@ -5,7 +5,7 @@
 // d0 = 0.6 d_c up, and the elastic constants of the affinely strained lattice (appendix A.2.2).
 #include <gtest/gtest.h>
 
-#include <eigen3/Eigen/Dense>
+#include <Eigen/Dense>
 
 #include <algorithm>
 #include <array>
@@ -26,17 +26,11 @@
 namespace debris {
 namespace {
 
-// Table 4 (E = 1, sigma_N = 0.2, sigma_T = 0.1, gamma = 1.5, rho = 1): d_min = 30, d_c = 150.
+// Table 4 (d_min = 30, d_c = 150) with the Poisson ratio varied as in section 3.1, and no damping unless asked.
 CohesiveMaterial table4(double nu = 0.15, double s = 0.0, double eta = 1.0) {
-  CohesiveMaterial m;
-  m.youngs_modulus = 1;
+  CohesiveMaterial m = table4_material(s);
   m.poisson_ratio = nu;
-  m.tensile_strength = 0.2;
-  m.shear_strength = 0.1;
-  m.surface_energy = 1.5;
   m.restitution = eta;
-  m.density = 1;
-  m.scaling = s;
   return m;
 }
 
