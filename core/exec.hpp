@@ -42,7 +42,6 @@
 // used in an offload build (mixing host parallel regions with target regions oversubscribes the cores).
 #define DEBRIS_HOST_PARALLEL DEBRIS_PRAGMA(omp parallel)
 #define DEBRIS_HOST_FOR DEBRIS_PRAGMA(omp for schedule(static))
-#define DEBRIS_HOST_FOR_NOWAIT DEBRIS_PRAGMA(omp for schedule(static) nowait)
 // A vector loop (host and device): no dependence between iterations.
 #define DEBRIS_SIMD DEBRIS_PRAGMA(omp simd)
 
