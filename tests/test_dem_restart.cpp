@@ -86,7 +86,9 @@ void expect_restart_bit_for_bit(PairPass pass) {
   straight.run(2 * n);
   DemSimulation first = sheared_system(pass);
   first.run(n);
-  const fs::path ckpt = fs::path(::testing::TempDir()) / "debris_restart.h5";
+  // One file per test: ctest -j runs the two passes' tests in parallel processes.
+  const fs::path ckpt = fs::path(::testing::TempDir()) /
+                        ("debris_restart_" + std::string(pass == PairPass::half ? "half" : "full") + ".h5");
   first.write_checkpoint(ckpt.string(), "run: {steps: 600}\n");
   std::string echo;
   DemSimulation resumed = DemSimulation::from_checkpoint(ckpt.string(), &echo);
