@@ -15,6 +15,8 @@ namespace {
 
 struct PairInputs {
   const int *row, *col;
+  const double *mass;
+  CohesiveCoefficients c;
   const double *x, *y, *z, *r, *vx, *vy, *vz, *wx, *wy, *wz;
   const CohesivePairTable *t;
   double *hx, *hy, *hz;
@@ -36,9 +38,10 @@ __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4"))) vo
   const double *__restrict vx = a.vx, *__restrict vy = a.vy, *__restrict vz = a.vz;
   const double *__restrict wx = a.wx, *__restrict wy = a.wy, *__restrict wz = a.wz;
   const CohesivePairTable &t = *a.t;
-  const double *__restrict kn = t.k_n.data(), *__restrict cn = t.c_n.data(), *__restrict de = t.delta_e.data();
-  const double *__restrict df = t.delta_f.data(), *__restrict idf = t.inv_delta_f.data();
-  const double *__restrict ks = t.k_soft.data(), *__restrict fmt = t.f_max_t.data(), *__restrict arm = t.arm_i.data();
+  const double *__restrict df = t.delta_f.data();
+  const double *__restrict mass = a.mass;
+  const double E_an = a.c.E * a.c.area_n, area_t = a.c.area_t, strain_e = a.c.strain_e;
+  const double sigma_t = a.c.sigma_t, damping = a.c.damping;
   double *__restrict hx = a.hx, *__restrict hy = a.hy, *__restrict hz = a.hz;
   HalfPassScratch &o = *a.out;
   double *__restrict fx = o.fx.data(), *__restrict fy = o.fy.data(), *__restrict fz = o.fz.data();
@@ -58,17 +61,27 @@ __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4"))) vo
     const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
     const double inv_d = 1.0 / d;
     const double nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
-    const double dn = d - r[i] - r[j];
-    const bool on = dn <= (adhesive ? df[k] : 0.0);
+    const double ri = r[i], rj = r[j], radsum = ri + rj, inv_rs = 1.0 / radsum;
+    const double dn = d - radsum;
+    // Eqs 7-17 for this pair (only delta_f, which may need pow, comes from the table).
+    const double r_eff = ri < rj ? ri : rj, r2 = r_eff * r_eff;
+    const double kn_k = E_an * r2 * inv_rs;
+    const double de_k = radsum * strain_e;
+    const double df_k = df[k];
+    const double ks_k = df_k > de_k ? kn_k * de_k / (df_k - de_k) : 0.0;
+    const double fmt_k = area_t * r2 * sigma_t;
+    const double mi = mass[i], mj = mass[j];
+    const double cn_k = damping * std::sqrt(kn_k * (mi * mj / (mi + mj)));
+    const bool on = dn <= (adhesive ? df_k : 0.0);
 
     // Eq 3 (positive in tension) and the normal part of eq 2.
-    const double f_n = (adhesive && dn > de[k]) ? ks[k] * (df[k] - dn) : kn[k] * dn;
+    const double f_n = (adhesive && dn > de_k) ? ks_k * (df_k - dn) : kn_k * dn;
     const double rvx = vx[i] - vx[j], rvy = vy[i] - vy[j], rvz = vz[i] - vz[j];
     const double v_n = rvx * nx + rvy * ny + rvz * nz;
-    const double fnorm = on ? -(f_n + cn[k] * v_n) : 0.0;
+    const double fnorm = on ? -(f_n + cn_k * v_n) : 0.0;
 
     // Contact point velocity (arms a_i + a_j = d), tangential part.
-    const double a_i = d * arm[k], a_j = d - a_i;
+    const double a_i = d * ri * inv_rs, a_j = d - a_i;
     const double sx = a_i * wx[i] + a_j * wx[j], sy = a_i * wy[i] + a_j * wy[j], sz = a_i * wz[i] + a_j * wz[j];
     const double vcx = rvx - (sy * nz - sz * ny), vcy = rvy - (sz * nx - sx * nz), vcz = rvz - (sx * ny - sy * nx);
     const double vcn = vcx * nx + vcy * ny + vcz * nz;
@@ -84,13 +97,13 @@ __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4"))) vo
     const double h_x = update ? keep * hpx + dt * vtx : h0x;
     const double h_y = update ? keep * hpy + dt * vty : h0y;
     const double h_z = update ? keep * hpz + dt * vtz : h0z;
-    const double k_t = kt_over_kn * kn[k];
-    const double share = (df[k] - dn) * idf[k];
-    const double cap = (share < 1.0 ? share : 1.0) * fmt[k];
+    const double k_t = kt_over_kn * kn_k;
+    const double share = (df_k - dn) / df_k;
+    const double cap = (share < 1.0 ? share : 1.0) * fmt_k;
     const double spring = k_t * std::sqrt(h_x * h_x + h_y * h_y + h_z * h_z);
     const double slide = spring > cap ? cap / (spring > 0.0 ? spring : 1.0) : 1.0;
     const double live = on ? tangential : 0.0;
-    const double kts = -live * k_t * slide, cts = -live * ct_over_cn * cn[k];
+    const double kts = -live * k_t * slide, cts = -live * ct_over_cn * cn_k;
     const double ftx = kts * h_x + cts * vtx, fty = kts * h_y + cts * vty, ftz = kts * h_z + cts * vtz;
     // Slid back to the cap when updating; gone when out of range or without
     // tangential force.
@@ -146,11 +159,30 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
   if (s.row_of.size() != static_cast<std::size_t>(list.entries()))
     throw std::logic_error("cohesive_contact_pass_half: scratch not indexed for this list");
   const int n = list.rows(), m = list.entries();
-  const PairInputs in{
-      s.row_of.data(),   list.index().data(), p.x.data(),  p.y.data(),  p.z.data(),  p.radius.data(), p.vx.data(),
-      p.vy.data(),       p.vz.data(),         p.wx.data(), p.wy.data(), p.wz.data(), &table,          history.hx.data(),
-      history.hy.data(), history.hz.data(),   &s,          box,         dt,          opt.adhesive,    opt.tangential,
-      update_history};
+  const PairInputs in{s.row_of.data(),
+                      list.index().data(),
+                      p.mass.data(),
+                      table.coefficients,
+                      p.x.data(),
+                      p.y.data(),
+                      p.z.data(),
+                      p.radius.data(),
+                      p.vx.data(),
+                      p.vy.data(),
+                      p.vz.data(),
+                      p.wx.data(),
+                      p.wy.data(),
+                      p.wz.data(),
+                      &table,
+                      history.hx.data(),
+                      history.hy.data(),
+                      history.hz.data(),
+                      &s,
+                      box,
+                      dt,
+                      opt.adhesive,
+                      opt.tangential,
+                      update_history};
 
   constexpr int chunk = 512;
   const int chunks = (m + chunk - 1) / chunk;

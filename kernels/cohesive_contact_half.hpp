@@ -1,6 +1,7 @@
 #pragma once
 // The cohesive contact pass for host threads: eqs 2-5 over a half neighbour list (each pair evaluated once)
-// with the per-pair constants of CohesivePairTable, in two phases:
+// (delta_f per pair from CohesivePairTable, the other constants of eqs 7-17 computed in the loop), in two
+// phases:
 //   1. over all pairs, flat: the force and both torques of pair k go to per-pair arrays. No pair writes to a
 //      particle, so the loop vectorises (built for x86-64, AVX2 and AVX-512, picked at run time);
 //   2. over particles: each sums its own pairs, then the pairs where it is the partner (a transposed index

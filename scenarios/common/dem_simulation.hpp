@@ -22,7 +22,7 @@
 
 namespace debris {
 
-/// Which contact pass runs: the half-list host pass (each pair once, per-pair constants tabulated), or the
+/// Which contact pass runs: the half-list host pass (each pair once, vectorised), or the
 /// full-list pass (each pair from both ends, no scatter: the GPU path and the reference).
 enum class PairPass { automatic, full, half };
 
@@ -87,7 +87,7 @@ class DemSimulation {
   void recompute_forces();
   /// The contact pass in use (never automatic).
   PairPass pair_pass() const { return pass_; }
-  /// Bytes held per particle by particles, neighbour list, history, pair table and thread buffers.
+  /// Bytes held per particle by particles, neighbour list, history, pair table and pass scratch.
   double bytes_per_particle() const;
   /// Changes the global damping fraction (relaxation phases).
   void set_global_damping(double fraction);
