@@ -73,20 +73,4 @@ void ContactHistory::carry_over(const Particles& p, const NeighborList& list) {
   }
 }
 
-bool ContactHistory::find(const Particles& p, const NeighborList& list, std::int64_t id_i, std::int64_t id_j,
-                          double out[3]) const {
-  for (int i = 0; i < list.rows(); ++i) {
-    if (p.id[static_cast<std::size_t>(i)] != id_i) continue;
-    for (int k = list.offset()[i]; k < list.offset()[i + 1]; ++k) {
-      if (p.id[static_cast<std::size_t>(list.index()[k])] == id_j) {
-        out[0] = hx[k];
-        out[1] = hy[k];
-        out[2] = hz[k];
-        return true;
-      }
-    }
-  }
-  return false;
-}
-
 }  // namespace debris

@@ -24,9 +24,6 @@ class ContactHistory {
   /// After the rebuild: looks up each new entry (id_i, id_j) in the remembered rows and copies its state.
   void carry_over(const Particles& p, const NeighborList& list);
 
-  /// State of the pair (id_i, id_j) as seen from id_i, or nullptr-equivalent false if absent.
-  bool find(const Particles& p, const NeighborList& list, std::int64_t id_i, std::int64_t id_j, double out[3]) const;
-
   std::size_t bytes() const { return 3 * sizeof(double) * hx.capacity(); }
 
  private:

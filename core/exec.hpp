@@ -65,10 +65,6 @@ constexpr bool offload_build() {
 void set_threads(int n);
 int threads();
 
-/// Inside a DEBRIS_HOST_PARALLEL region: this thread's number and the team size.
-int thread_id();
-int team_size();
-
 /// Runs a tiny target region and reports whether it executed on a GPU. Always false in host builds.
 bool kernels_run_on_device();
 
