@@ -94,12 +94,12 @@ struct DemSystem {
   double dt = 0, max_cutoff = 0, skin = 0;
   NeighborList list;                  // full list: BM_CohesivePassFullList (the GPU path)
   ContactHistory history;
-  std::vector<double> hx0, hy0, hz0;  // the snapshot's history, restored before every timed pass
+  ContactHistory history0;            // the snapshot's history, restored before every timed pass
   NeighborList half;                  // half list: BM_CohesivePass (the host path the engine runs)
   ContactHistory half_history;
   CohesivePairTable table;
   HalfPassScratch scratch;
-  std::vector<double> ghx0, ghy0, ghz0;
+  ContactHistory half_history0;
   CellList cells;                     // BM_Binning's output
   NeighborList built;                 // BM_NeighborBuild's output
   double contacts_per_particle = 0;  // interacting neighbours per particle in the snapshot
@@ -154,9 +154,7 @@ DemSystem& dem_system(int n) {
     zero_forces(s->p);
     cohesive_contact_pass(s->coef, s->options, s->box.view(), s->p, s->list, s->history, s->dt, 1);
   }
-  s->hx0 = s->history.hx;
-  s->hy0 = s->history.hy;
-  s->hz0 = s->history.hz;
+  s->history0 = s->history;
   s->half.build(s->box.view(), s->p, CohesiveCutoff{s->coef}, s->max_cutoff, s->skin, NeighborKind::half);
   s->half_history.reset(s->half);
   s->table.build(s->coef, s->p, s->half);
@@ -166,9 +164,7 @@ DemSystem& dem_system(int n) {
     cohesive_contact_pass_half(s->table, s->options, s->box.view(), s->p, s->half, s->half_history, s->dt, 1,
                                s->scratch);
   }
-  s->ghx0 = s->half_history.hx;
-  s->ghy0 = s->half_history.hy;
-  s->ghz0 = s->half_history.hz;
+  s->half_history0 = s->half_history;
   const CohesiveDiagnostics d = cohesive_diagnostics(s->coef, s->options, s->box.view(), s->p, s->list, s->history);
   s->contacts_per_particle = 2.0 * static_cast<double>(d.interacting_pairs) / n;
   slot = std::move(s);
@@ -231,18 +227,22 @@ void BM_NeighborBuild(benchmark::State& state) {
   set_common_counters(state, s, footprint(s.p.size(), s.list, s.history), s.list, false);
 }
 
+// Every timed pass starts from the same history, so it does the same work (springs would otherwise grow with
+// every pass at fixed positions and end up all sliding). Copies in place: no allocation in the loop.
+void restore_history(ContactHistory& h, const ContactHistory& saved) {
+  std::copy(saved.hx.begin(), saved.hx.end(), h.hx.begin());
+  std::copy(saved.hy.begin(), saved.hy.end(), h.hy.begin());
+  std::copy(saved.hz.begin(), saved.hz.end(), h.hz.begin());
+}
+
 void BM_CohesivePassFullList(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   exec::set_threads(static_cast<int>(state.range(1)));
   DemSystem& s = dem_system(n);
   const BoxView box = s.box.view();
   for (auto _ : state) {
-    // Every timed pass starts from the same history, so it does the same work (springs would otherwise
-    // grow with every pass at fixed positions and end up all sliding).
     state.PauseTiming();
-    std::copy(s.hx0.begin(), s.hx0.end(), s.history.hx.begin());
-    std::copy(s.hy0.begin(), s.hy0.end(), s.history.hy.begin());
-    std::copy(s.hz0.begin(), s.hz0.end(), s.history.hz.begin());
+    restore_history(s.history, s.history0);
     state.ResumeTiming();
     zero_forces(s.p);
     cohesive_contact_pass(s.coef, s.options, box, s.p, s.list, s.history, s.dt, 1);
@@ -264,9 +264,7 @@ void BM_CohesivePass(benchmark::State& state) {
   const BoxView box = s.box.view();
   for (auto _ : state) {
     state.PauseTiming();
-    std::copy(s.ghx0.begin(), s.ghx0.end(), s.half_history.hx.begin());
-    std::copy(s.ghy0.begin(), s.ghy0.end(), s.half_history.hy.begin());
-    std::copy(s.ghz0.begin(), s.ghz0.end(), s.half_history.hz.begin());
+    restore_history(s.half_history, s.half_history0);
     state.ResumeTiming();
     zero_forces(s.p);
     cohesive_contact_pass_half(s.table, s.options, box, s.p, s.half, s.half_history, s.dt, 1, s.scratch);

@@ -201,21 +201,26 @@ TEST(DemEngine, MomentumAndAngularMomentumAreConserved) {
   EXPECT_LT(t1.kinetic_energy, t0.kinetic_energy);  // damping and sliding dissipate
 }
 
+// A frozen bottom wall and a top wall driven at `velocity`, each 80 thick, on a sample spanning the box in y.
+Groups shear_walls(Particles& p, const Box& box, Vec3 velocity) {
+  Groups g;
+  Group top{"top", GroupMotion::velocity};
+  top.velocity = velocity;
+  const int gt = g.add(top), gb = g.add(Group{"bottom", GroupMotion::frozen});
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.y[i] > box.hi().y - 80) p.group[i] = gt;
+    if (p.y[i] < box.lo().y + 80) p.group[i] = gb;
+  }
+  return g;
+}
+
 // Runs a sheared periodic FCC sample for `steps` and returns forces, torques and velocities by id.
 struct Snapshot {
   std::map<std::int64_t, std::array<double, 9>> by_id;
 };
 Snapshot run_sheared(Particles p, Box box, int steps, int threads, PairPass pass = PairPass::automatic) {
   exec::set_threads(threads);
-  Groups g;
-  Group top{"top", GroupMotion::velocity};
-  top.velocity = {0.02, 0, 0};
-  Group bottom{"bottom", GroupMotion::frozen};
-  const int gt = g.add(top), gb = g.add(bottom);
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (p.y[i] > box.hi().y - 80) p.group[i] = gt;
-    if (p.y[i] < box.lo().y + 80) p.group[i] = gb;
-  }
+  const Groups g = shear_walls(p, box, {0.02, 0, 0});
   DemSettings s;
   s.material = table4(0.9);
   s.time_step_fraction = 0.1;
@@ -290,15 +295,7 @@ void expect_history_survives_rebuild_and_resort(PairPass pass) {
   Lattice lat = make_lattice(fcc_spec({4, 3, 3}, 0.04, 1.0));
   Box box(lat.box.lo(), lat.box.hi(), {true, false, true});
   Particles p = lat.particles;
-  Groups g;
-  Group top{"top", GroupMotion::velocity};
-  top.velocity = {0.05, 0.01, 0};  // shear and pull: pairs in tension too
-  Group bottom{"bottom", GroupMotion::frozen};
-  const int gt = g.add(top), gb = g.add(bottom);
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (p.y[i] > box.hi().y - 80) p.group[i] = gt;
-    if (p.y[i] < box.lo().y + 80) p.group[i] = gb;
-  }
+  const Groups g = shear_walls(p, box, {0.05, 0.01, 0});  // shear and pull: pairs in tension too
   DemSettings s;
   s.material = table4(0.9);
   s.time_step_fraction = 0.1;
