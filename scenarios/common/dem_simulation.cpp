@@ -169,6 +169,10 @@ CohesiveDiagnostics DemSimulation::diagnostics() const {
 }
 
 std::string DemSimulation::health_check(double overlap_limit) const {
+  return health_check(diagnostics(), overlap_limit);
+}
+
+std::string DemSimulation::health_check(const CohesiveDiagnostics& diag, double overlap_limit) const {
   const long bad = first_non_finite(p_);
   if (bad >= 0) {
     const std::size_t b = static_cast<std::size_t>(bad);
@@ -178,7 +182,7 @@ std::string DemSimulation::health_check(double overlap_limit) const {
     return os.str();
   }
   const double r_min = *std::min_element(p_.radius.begin(), p_.radius.end());
-  if (diagnostics().max_overlap <= overlap_limit * r_min) return {};
+  if (diag.max_overlap <= overlap_limit * r_min) return {};
   // Rare: find the pair by a plain scan.
   const BoxView b = box_.view();
   for (int i = 0; i < list_.rows(); ++i) {

@@ -99,6 +99,8 @@ class DemSimulation {
   /// position, velocity or force, or an exploding overlap (deeper than `overlap_limit` times the smaller
   /// radius of the pair, which no calibrated cohesive solid reaches).
   std::string health_check(double overlap_limit = 0.5) const;
+  /// The same, with diagnostics() already computed for this step.
+  std::string health_check(const CohesiveDiagnostics& d, double overlap_limit = 0.5) const;
 
   /// Writes everything needed to continue bit for bit (particles, box, groups and their state, neighbour
   /// list, contact history, step, time, settings, and the input file's text) to `path` atomically: into

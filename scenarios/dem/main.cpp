@@ -40,8 +40,7 @@ std::vector<std::string> thermo_columns(const Groups& groups) {
   return c;
 }
 
-std::vector<double> thermo_row(const DemSimulation& sim) {
-  const CohesiveDiagnostics d = sim.diagnostics();
+std::vector<double> thermo_row(const DemSimulation& sim, const CohesiveDiagnostics& d) {
   const ParticleTotals t = particle_totals(sim.particles());
   std::vector<double> row{static_cast<double>(sim.step_count()), sim.time(), t.kinetic_energy, d.elastic_energy,
                           d.max_overlap, static_cast<double>(d.interacting_pairs)};
@@ -125,12 +124,13 @@ int run(const Options& opt) {
   const auto t0 = Clock::now();
   double output_seconds = 0.0;
   long last_checkpoint = -1;
-  auto write_outputs = [&](bool final_step) {
+  // `diag`: diagnostics() of this step when the caller already has them (the health check computes them).
+  auto write_outputs = [&](bool final_step, const CohesiveDiagnostics* diag) {
     const auto o0 = Clock::now();
     const long step = sim.step_count();
     const bool first = step == first_step;
     if (step % cfg.output.thermo_every == 0 || final_step || first) {
-      const auto row = thermo_row(sim);
+      const auto row = thermo_row(sim, diag ? *diag : sim.diagnostics());
       if (!(restored && first)) thermo.write_row(row);
       print_thermo(cols, row, first);
     }
@@ -146,13 +146,15 @@ int run(const Options& opt) {
     output_seconds += std::chrono::duration<double>(Clock::now() - o0).count();
   };
 
-  write_outputs(cfg.steps == first_step);
+  write_outputs(cfg.steps == first_step, nullptr);
   Progress progress(first_step, cfg.steps, std::cout, cfg.output.progress_seconds);
   while (sim.step_count() < cfg.steps) {
     sim.step();
     const bool final_step = sim.step_count() == cfg.steps;
+    std::optional<CohesiveDiagnostics> diag;
     if (sim.step_count() % cfg.output.thermo_every == 0 || final_step) {
-      const std::string problem = sim.health_check();
+      diag = sim.diagnostics();
+      const std::string problem = sim.health_check(*diag);
       if (!problem.empty()) {
         std::cerr << "debris_dem: stopped: " << problem << "\n"
                   << "debris_dem: the last good checkpoint is "
@@ -162,7 +164,7 @@ int run(const Options& opt) {
         return kExitUnstable;
       }
     }
-    write_outputs(final_step);
+    write_outputs(final_step, diag ? &*diag : nullptr);
     progress.update(sim.step_count(), sim.particles().size());
   }
 
