@@ -1,0 +1,34 @@
+#pragma once
+// Peridynamic bonds (paper B, section 2.1 and eq 33): node j is bonded to node i when both belong to the
+// same grain and |x0_j - x0_i| < horizon in the reference configuration. Built once, stored as compressed
+// rows from both ends (row i lists every partner j, row j lists i), so the bond passes write only to the
+// row's own node, with no atomics, on host threads and on a GPU alike. A bond breaks irreversibly
+// (eq 10); `broken` is kept per stored entry and both ends of a bond always agree.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace debris {
+
+class PdNodes;
+struct PdGrains;
+
+class BondList {
+ public:
+  std::vector<int> offset;              // size nodes() + 1: bonds of i are [offset[i], offset[i+1])
+  std::vector<int> partner;             // j of each entry, ascending within a row
+  std::vector<double> length0;          // reference length |x0_j - x0_i| of each entry
+  std::vector<unsigned char> broken;    // 1 once broken, never healed
+
+  std::size_t nodes() const { return offset.empty() ? 0 : offset.size() - 1; }
+  std::size_t entries() const { return partner.size(); }
+
+  /// True when i and j are joined by a bond that is not broken (false when they were never bonded).
+  bool intact(int i, int j) const;
+
+  /// Bonds of every particle grain (walls get none) with the horizon of each grain
+  /// (`horizon_of_grain[g]`), from the reference positions x0, y0, z0.
+  static BondList build(const PdNodes& nodes, const PdGrains& grains, const std::vector<double>& horizon_of_grain);
+};
+
+}  // namespace debris
