@@ -4,6 +4,7 @@
 // rows from both ends (row i lists every partner j, row j lists i), so the bond passes write only to the
 // row's own node, with no atomics, on host threads and on a GPU alike. A bond breaks irreversibly
 // (eq 10); `broken` is kept per stored entry and both ends of a bond always agree.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -24,7 +25,11 @@ class BondList {
   std::size_t entries() const { return partner.size(); }
 
   /// True when i and j are joined by a bond that is not broken (false when they were never bonded).
-  bool intact(int i, int j) const;
+  bool intact(int i, int j) const {
+    const auto begin = partner.begin() + offset[i], end = partner.begin() + offset[i + 1];
+    const auto it = std::lower_bound(begin, end, j);
+    return it != end && *it == j && !broken[static_cast<std::size_t>(it - partner.begin())];
+  }
 
   /// Bonds of every particle grain (walls get none) with the horizon of each grain
   /// (`horizon_of_grain[g]`), from the reference positions x0, y0, z0.
