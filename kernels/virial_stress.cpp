@@ -14,9 +14,12 @@ namespace {
 
 DEBRIS_DECLARE_TARGET
 
-// W(i) of the header: the pair forces of row i from copies of their histories (never advanced), plus m v v.
-// Takes the raw columns one by one (not in a struct) so that an offload build translates each pointer.
-inline StressTensor particle_virial(int i, const int* offset, const int* index, const double* x, const double* y,
+// The share of row i in the sum: the pair forces of the row from copies of their histories (never advanced),
+// plus m v v when i is selected. A full list meets each pair from both ends, and half of r_ij (x) F_ij goes to
+// each selected end; a half list meets it once and credits the halves of both ends from here (r_ji (x) F_ji
+// = r_ij (x) F_ij). Takes the raw columns one by one (not in a struct) so that an offload build translates
+// each pointer.
+inline StressTensor particle_virial(int i, int half, const int* sel, const int* offset, const int* index, const double* x, const double* y,
                                     const double* z, const double* vx, const double* vy, const double* vz,
                                     const double* wx, const double* wy, const double* wz, const double* radius,
                                     const double* mass, const double* hx, const double* hy, const double* hz,
@@ -24,24 +27,27 @@ inline StressTensor particle_virial(int i, const int* offset, const int* index, 
                                     int kinetic) {
   const Vec3 xi{x[i], y[i], z[i]}, vi{vx[i], vy[i], vz[i]}, wi{wx[i], wy[i], wz[i]};
   const double ri = radius[i], mi = mass[i];
+  const double own = (sel == nullptr || sel[i]) ? 0.5 : 0.0;
   StressTensor w;
+  if (!half && own == 0.0) return w;
   for (int k = offset[i]; k < offset[i + 1]; ++k) {
     const int j = index[k];
+    const double share = half ? own + ((sel == nullptr || sel[j]) ? 0.5 : 0.0) : own;
+    if (share == 0.0) continue;
     const Vec3 dx = minimum_image(b, xi - Vec3{x[j], y[j], z[j]});
     const CohesivePairParams pp = cohesive_pair_params(coef, ri, radius[j], mi, mass[j]);
     Vec3 h{hx[k], hy[k], hz[k]};
     const Vec3 f = cohesive_pair_force(pp, opt, dx, ri, radius[j], vi, Vec3{vx[j], vy[j], vz[j]}, wi,
                                        Vec3{wx[j], wy[j], wz[j]}, h, 0.0, 0)
                        .force;
-    // A full list meets each pair from both ends: half of r_ij (x) F_ij goes to each.
-    w.xx -= 0.5 * dx.x * f.x;
-    w.yy -= 0.5 * dx.y * f.y;
-    w.zz -= 0.5 * dx.z * f.z;
-    w.xy -= 0.5 * dx.x * f.y;
-    w.xz -= 0.5 * dx.x * f.z;
-    w.yz -= 0.5 * dx.y * f.z;
+    w.xx -= share * dx.x * f.x;
+    w.yy -= share * dx.y * f.y;
+    w.zz -= share * dx.z * f.z;
+    w.xy -= share * dx.x * f.y;
+    w.xz -= share * dx.x * f.z;
+    w.yz -= share * dx.y * f.z;
   }
-  if (kinetic) {
+  if (kinetic && own > 0) {
     w.xx -= mi * vi.x * vi.x;
     w.yy -= mi * vi.y * vi.y;
     w.zz -= mi * vi.z * vi.z;
@@ -57,16 +63,15 @@ DEBRIS_END_DECLARE_TARGET
 }  // namespace
 
 StressTensor virial_stress(const CohesiveCoefficients& c, const CohesiveOptions& opt, const BoxView& box,
-                           const Particles& p, const NeighborList& full_list, const ContactHistory& history,
+                           const Particles& p, const NeighborList& list, const ContactHistory& history,
                            const int* select, double volume, bool kinetic) {
-  if (full_list.kind() != NeighborKind::full) throw std::logic_error("virial_stress needs a full neighbour list");
-  if (static_cast<std::size_t>(full_list.rows()) != p.size() ||
-      history.hx.size() != static_cast<std::size_t>(full_list.entries()))
+  if (static_cast<std::size_t>(list.rows()) != p.size() ||
+      history.hx.size() != static_cast<std::size_t>(list.entries()))
     throw std::logic_error("virial_stress: the list and the history do not belong to these particles");
   if (!(volume > 0)) throw std::invalid_argument("virial_stress: the sample volume must be > 0");
-  const int n = full_list.rows();
-  const int* offset = full_list.offset().data();
-  const int* index = full_list.index().data();
+  const int n = list.rows();
+  const int* offset = list.offset().data();
+  const int* index = list.index().data();
   const double *x = p.x.data(), *y = p.y.data(), *z = p.z.data();
   const double *vx = p.vx.data(), *vy = p.vy.data(), *vz = p.vz.data();
   const double *wx = p.wx.data(), *wy = p.wy.data(), *wz = p.wz.data();
@@ -77,13 +82,13 @@ StressTensor virial_stress(const CohesiveCoefficients& c, const CohesiveOptions&
   const CohesiveOptions o = opt;
   const BoxView b = box;
   const int kin = kinetic ? 1 : 0;
+  const int half = list.kind() == NeighborKind::half ? 1 : 0;
   // Six sums in two three-way reductions (exec offers up to three): each pass recomputes the pair forces,
   // which is cheaper than a per-particle buffer that would have to live on the device too.
   double sxx = 0, syy = 0, szz = 0;
   DEBRIS_KERNEL_SUM3(sxx, syy, szz)
   for (int i = 0; i < n; ++i) {
-    if (sel && !sel[i]) continue;
-    const StressTensor w = particle_virial(i, offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius, mass, hx, hy,
+    const StressTensor w = particle_virial(i, half, sel, offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius, mass, hx, hy,
                                            hz, coef, o, b, kin);
     sxx += w.xx;
     syy += w.yy;
@@ -92,8 +97,7 @@ StressTensor virial_stress(const CohesiveCoefficients& c, const CohesiveOptions&
   double sxy = 0, sxz = 0, syz = 0;
   DEBRIS_KERNEL_SUM3(sxy, sxz, syz)
   for (int i = 0; i < n; ++i) {
-    if (sel && !sel[i]) continue;
-    const StressTensor w = particle_virial(i, offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius, mass, hx, hy,
+    const StressTensor w = particle_virial(i, half, sel, offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius, mass, hx, hy,
                                            hz, coef, o, b, kin);
     sxy += w.xy;
     sxz += w.xz;

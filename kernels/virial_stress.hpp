@@ -38,15 +38,16 @@ struct StressTensor {
   double xx = 0, yy = 0, zz = 0, xy = 0, xz = 0, yz = 0;
 };
 
-/// Sum over the selected particles of W(i) (above), divided by `volume`. `full_list` must be a full list
-/// and `history` its per-entry tangential springs: each pair force is recomputed with cohesive_pair_force
-/// from a copy of its history, without advancing it (the state is not modified). `select` may be nullptr
-/// (all particles) or a per-particle mask, nonzero = summed; the pair part of a selected i counts all its
-/// neighbours, selected or not. kinetic = false leaves out the m v v part.
-/// Throws std::logic_error for a half list and std::invalid_argument for volume <= 0. The sums are
+/// Sum over the selected particles of W(i) (above), divided by `volume`. `list` is a full or a half list
+/// and `history` its per-entry tangential springs (as the contact pass of that kind keeps them): each pair
+/// force is recomputed with cohesive_pair_force from a copy of its history, without advancing it (the
+/// state is not modified). `select` may be nullptr (all particles) or a per-particle mask, nonzero =
+/// summed; the pair part of a selected i counts all its neighbours, selected or not. kinetic = false
+/// leaves out the m v v part. Throws std::logic_error when the history does not match the list and
+/// std::invalid_argument for volume <= 0. The sums are
 /// reductions over particles: the result depends on the thread count at round-off level only.
 StressTensor virial_stress(const CohesiveCoefficients& c, const CohesiveOptions& opt, const BoxView& box,
-                           const Particles& p, const NeighborList& full_list, const ContactHistory& history,
+                           const Particles& p, const NeighborList& list, const ContactHistory& history,
                            const int* select, double volume, bool kinetic = true);
 
 }  // namespace debris

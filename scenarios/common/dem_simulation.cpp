@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "kernels/integrate.hpp"
+#include "kernels/virial_stress.hpp"
 
 namespace debris {
 
@@ -85,6 +86,8 @@ void DemSimulation::set_global_damping(double fraction) {
   settings_.global_damping = fraction;
   damping_ = fraction * limits_.c_c;
 }
+
+void DemSimulation::set_options(const CohesiveOptions& options) { settings_.options = options; }
 
 void DemSimulation::rebuild_neighbors() { rebuild(nullptr); }
 
@@ -166,6 +169,10 @@ void DemSimulation::run(long steps) {
 
 CohesiveDiagnostics DemSimulation::diagnostics() const {
   return cohesive_diagnostics(coef_, settings_.options, box_.view(), p_, list_, history_);
+}
+
+StressTensor DemSimulation::virial_stress(const int* select, double volume, bool kinetic) const {
+  return debris::virial_stress(coef_, settings_.options, box_.view(), p_, list_, history_, select, volume, kinetic);
 }
 
 std::string DemSimulation::health_check(double overlap_limit) const {

@@ -19,6 +19,7 @@
 #include "kernels/cohesive_contact_half.hpp"
 #include "kernels/cohesive_pair_table.hpp"
 #include "kernels/cohesive_material.hpp"
+#include "kernels/virial_stress.hpp"
 
 namespace debris {
 
@@ -91,9 +92,17 @@ class DemSimulation {
   double bytes_per_particle() const;
   /// Changes the global damping fraction (relaxation phases).
   void set_global_damping(double fraction);
+  /// Switches the pair law's adhesion and tangential parts (relaxation phases); takes effect at the next
+  /// force evaluation (call recompute_forces() to apply it to the current step).
+  void set_options(const CohesiveOptions& options);
 
   /// Elastic energy, max overlap and interacting pairs at the current state.
   CohesiveDiagnostics diagnostics() const;
+
+  /// Average virial stress (kernels/virial_stress.hpp) of the selected particles (`select`: nullptr for all,
+  /// or a per-particle mask, nonzero = counted) over `volume`, from the current forces' pair law and
+  /// contact history; the state is not modified.
+  StressTensor virial_stress(const int* select, double volume, bool kinetic = true) const;
 
   /// Empty when the state is sound; otherwise a message naming the step and the particle(s): a non-finite
   /// position, velocity or force, or an exploding overlap (deeper than `overlap_limit` times the smaller
