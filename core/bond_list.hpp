@@ -32,7 +32,10 @@ class BondList {
   }
 
   /// Bonds of every particle grain (walls get none) with the horizon of each grain
-  /// (`horizon_of_grain[g]`), from the reference positions x0, y0, z0.
+  /// (`horizon_of_grain[g]`), from the reference positions x0, y0, z0: j is a partner of i when both are
+  /// nodes of one particle grain, j != i and |x0_j - x0_i| < horizon (strict, as eq 33 sums). Searched per
+  /// grain through a CellList of edge >= horizon. Throws InputError when a grain's node range lies outside
+  /// the nodes, a particle grain's horizon is not finite and > 0, or two nodes of a grain coincide.
   static BondList build(const PdNodes& nodes, const PdGrains& grains, const std::vector<double>& horizon_of_grain);
 };
 
