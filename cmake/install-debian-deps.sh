@@ -17,6 +17,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   gcc-12-offload-nvptx   # the DEBRIS_OFFLOAD=nvptx configuration (GCC 12 OpenMP offload to NVIDIA GPUs)
   python3                # bench/perf_check.py
+  gmsh                   # PeriDEM grain and wall meshes: core/shape_mesh runs the gmsh executable (tests too)
 )
 [ "$with_tests" -eq 0 ] || packages+=(python3-paraview)
 missing=()
