@@ -18,6 +18,7 @@ packages=(
   gcc-12-offload-nvptx   # the DEBRIS_OFFLOAD=nvptx configuration (GCC 12 OpenMP offload to NVIDIA GPUs)
   python3                # bench/perf_check.py
   gmsh                   # PeriDEM grain and wall meshes: core/shape_mesh runs the gmsh executable (tests too)
+  gnuplot-nox            # the PNG plots of the patch-test and amorphous scenarios (skipped, with a note, without it)
 )
 [ "$with_tests" -eq 0 ] || packages+=(python3-paraview)
 missing=()
