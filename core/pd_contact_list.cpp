@@ -1,0 +1,271 @@
+#include "core/pd_contact_list.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "core/bond_list.hpp"
+#include "core/error.hpp"
+#include "core/exec.hpp"
+#include "core/neighbor_list.hpp"
+#include "core/pd_nodes.hpp"
+#include "core/vec3.hpp"
+
+namespace debris {
+
+namespace {
+
+DEBRIS_DECLARE_TARGET
+
+// BondList::intact on raw arrays (a binary search in the sorted row), usable inside a kernel.
+inline int bond_intact(const int* b_offset, const int* b_partner, const unsigned char* b_broken, int i, int j) {
+  int lo = b_offset[i], hi = b_offset[i + 1];
+  const int end = hi;
+  while (lo < hi) {
+    const int mid = lo + (hi - lo) / 2;
+    if (b_partner[mid] < j)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return lo < end && b_partner[lo] == j && !b_broken[lo];
+}
+
+// The pairs that may touch (header comment). kind: PdGrainKind per grain, 1 = wall.
+inline int may_touch(int i, int j, const int* grain, const int* kind, const int* b_offset, const int* b_partner,
+                     const unsigned char* b_broken, int has_bonds) {
+  const int gi = grain[i], gj = grain[j];
+  if (kind[gi] == 1 && kind[gj] == 1) return 0;
+  if (gi != gj) return 1;
+  return !(has_bonds && bond_intact(b_offset, b_partner, b_broken, i, j));
+}
+
+// Scans the 27 cells around node i; writes the kept partners to out (when not null); returns how many.
+inline int contact_row(int i, const double* x, const double* y, const double* z, const int* cell_of,
+                       const int* cell_start, const int* sorted, int n0, int n1, int n2, double reach2,
+                       const int* grain, const int* kind, const int* b_offset, const int* b_partner,
+                       const unsigned char* b_broken, int has_bonds, int* out) {
+  const double xi = x[i], yi = y[i], zi = z[i];
+  const int ci = cell_of[i];
+  int sx[3], sy[3], sz[3];
+  const int nsx = neighbor_stencil(ci % n0, n0, 0, sx);
+  const int nsy = neighbor_stencil((ci / n0) % n1, n1, 0, sy);
+  const int nsz = neighbor_stencil(ci / (n0 * n1), n2, 0, sz);
+  int count = 0;
+  for (int a = 0; a < nsz; ++a) {
+    for (int b = 0; b < nsy; ++b) {
+      for (int c = 0; c < nsx; ++c) {
+        const int cell = sx[c] + n0 * (sy[b] + n1 * sz[a]);
+        const int end = cell_start[cell + 1];
+        for (int k = cell_start[cell]; k < end; ++k) {
+          const int j = sorted[k];
+          if (j == i) continue;
+          const double dx = xi - x[j], dy = yi - y[j], dz = zi - z[j];
+          if (dx * dx + dy * dy + dz * dz >= reach2) continue;
+          if (!may_touch(i, j, grain, kind, b_offset, b_partner, b_broken, has_bonds)) continue;
+          if (out) out[count] = j;
+          ++count;
+        }
+      }
+    }
+  }
+  return count;
+}
+
+DEBRIS_END_DECLARE_TARGET
+
+void check_layout(const PdNodes& nodes, const PdGrains& grains, const BondList& bonds) {
+  const std::size_t n = nodes.size();
+  if (n > static_cast<std::size_t>(std::numeric_limits<int>::max() / 2))
+    throw std::invalid_argument("pd_contact_list: too many nodes for int indices");
+  const int ng = static_cast<int>(grains.size());
+  if (grains.node_end.size() != grains.size() || grains.kind.size() != grains.size())
+    throw std::invalid_argument("pd_contact_list: PdGrains columns of different sizes");
+  for (int g = 0; g < ng; ++g) {
+    const int b = grains.node_begin[g], e = grains.node_end[g];
+    if (b < 0 || b > e || e > static_cast<int>(n))
+      throw std::invalid_argument("pd_contact_list: grain " + std::to_string(g) + " has a bad node range");
+    for (int i = b; i < e; ++i)
+      if (nodes.grain[i] != g)
+        throw std::invalid_argument("pd_contact_list: node " + std::to_string(i) + " lies in the range of grain " +
+                                    std::to_string(g) + " but says grain " + std::to_string(nodes.grain[i]));
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    if (nodes.grain[i] < 0 || nodes.grain[i] >= ng)
+      throw std::invalid_argument("pd_contact_list: node " + std::to_string(i) + " has no grain");
+  if (!bonds.offset.empty() && bonds.nodes() != n)
+    throw std::invalid_argument("pd_contact_list: the bond list has " + std::to_string(bonds.nodes()) + " rows for " +
+                                std::to_string(n) + " nodes");
+}
+
+}  // namespace
+
+void PdContactList::build(const PdNodes& nodes, const PdGrains& grains, const BondList& bonds, double cutoff,
+                          double skin) {
+  if (!(std::isfinite(cutoff) && cutoff > 0))
+    throw input_error("pd_contact.cutoff", format_value(cutoff), "must be finite and > 0 (the contact radius)");
+  if (!(std::isfinite(skin) && skin >= 0))
+    throw input_error("pd_contact.skin", format_value(skin), "must be finite and >= 0");
+  check_layout(nodes, grains, bonds);
+  const int n = static_cast<int>(nodes.size());
+  const double reach = cutoff + skin;
+
+  // Cells over the bounding box of the current positions (serial: one pass per rebuild).
+  BoxView box{};
+  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  const double* pos[3] = {nodes.x.data(), nodes.y.data(), nodes.z.data()};
+  for (int a = 0; a < 3; ++a) {
+    if (n > 0) lo[a] = hi[a] = pos[a][0];
+    for (int i = 1; i < n; ++i) {
+      lo[a] = std::min(lo[a], pos[a][i]);
+      hi[a] = std::max(hi[a], pos[a][i]);
+    }
+    if (!(std::isfinite(lo[a]) && std::isfinite(hi[a])))
+      throw input_error("pd_nodes.position", "(not finite)", "every node position must be finite to build contacts");
+    box.lo[a] = lo[a];
+    box.len[a] = std::max(hi[a] - lo[a], reach);  // a flat axis (2D) is one cell
+    box.periodic[a] = 0;
+  }
+  cells_.build(box, nodes.x.data(), nodes.y.data(), nodes.z.data(), n, reach);
+
+  const double* __restrict x = nodes.x.data();
+  const double* __restrict y = nodes.y.data();
+  const double* __restrict z = nodes.z.data();
+  const int* __restrict grain = nodes.grain.data();
+  const int* __restrict kind = grains.kind.data();
+  const int has_bonds = bonds.offset.empty() ? 0 : 1;
+  const int* __restrict b_offset = has_bonds ? bonds.offset.data() : nullptr;
+  const int* __restrict b_partner = bonds.partner.data();
+  const unsigned char* __restrict b_broken = bonds.broken.data();
+  const int* __restrict cell_of = cells_.cell_of().data();
+  const int* __restrict cell_start = cells_.cell_start().data();
+  const int* __restrict sorted = cells_.sorted_index().data();
+  const std::array<int, 3> dims = cells_.dims();
+  const int n0 = dims[0], n1 = dims[1], n2 = dims[2];
+  const double reach2 = reach * reach;
+
+  offset_.resize(static_cast<std::size_t>(n) + 1);
+  int* __restrict off = offset_.data();
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    off[i + 1] = contact_row(i, x, y, z, cell_of, cell_start, sorted, n0, n1, n2, reach2, grain, kind, b_offset,
+                             b_partner, b_broken, has_bonds, nullptr);
+  }
+  // Serial prefix sum: the offsets do not depend on the thread count.
+  long long total = 0;
+  off[0] = 0;
+  for (int i = 1; i <= n; ++i) {
+    total += off[i];
+    if (total > std::numeric_limits<int>::max())
+      throw input_error("pd_contact.skin", format_value(skin), "too many contact candidates for int offsets");
+    off[i] = static_cast<int>(total);
+  }
+  index_.resize(static_cast<std::size_t>(total));
+  int* __restrict idx = index_.data();
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    contact_row(i, x, y, z, cell_of, cell_start, sorted, n0, n1, n2, reach2, grain, kind, b_offset, b_partner, b_broken,
+                has_bonds, idx + off[i]);
+  }
+
+  x0_.assign(nodes.x.begin(), nodes.x.end());
+  y0_.assign(nodes.y.begin(), nodes.y.end());
+  z0_.assign(nodes.z.begin(), nodes.z.end());
+  rows_ = n;
+  cutoff_ = cutoff;
+  skin_ = skin;
+  built_ = true;
+  stale_ = false;
+  build_slots(nodes, grains);
+}
+
+void PdContactList::build_slots(const PdNodes& nodes, const PdGrains& grains) {
+  const int ng = static_cast<int>(grains.size());
+  grain_slot_offset_.assign(static_cast<std::size_t>(ng) + 1, 0);
+  slot_owner_.clear();
+  slot_partner_grain_.clear();
+  slot_partner_node_.clear();
+  slot_pair_offset_.assign(1, 0);
+  slot_pair_i_.clear();
+  slot_pair_j_.clear();
+  const int wall = static_cast<int>(PdGrainKind::wall);
+  for (int p = 0; p < ng; ++p) {
+    grain_slot_offset_[static_cast<std::size_t>(p)] = static_cast<int>(slot_owner_.size());
+    if (grains.kind[static_cast<std::size_t>(p)] == wall) continue;
+    scratch_.clear();
+    for (int i = grains.node_begin[static_cast<std::size_t>(p)]; i < grains.node_end[static_cast<std::size_t>(p)];
+         ++i) {
+      for (int k = offset_[static_cast<std::size_t>(i)]; k < offset_[static_cast<std::size_t>(i) + 1]; ++k) {
+        const int j = index_[static_cast<std::size_t>(k)];
+        const int q = nodes.grain[static_cast<std::size_t>(j)];
+        if (q == p) continue;
+        const std::int64_t key = grains.kind[static_cast<std::size_t>(q)] == wall ? std::int64_t{ng} + j : q;
+        scratch_.push_back({key, i, j});
+      }
+    }
+    // Stable: within a slot the pairs stay in row order (i ascending, then list order).
+    std::stable_sort(scratch_.begin(), scratch_.end(),
+                     [](const SlotEntry& a, const SlotEntry& b) { return a.key < b.key; });
+    for (std::size_t e = 0; e < scratch_.size(); ++e) {
+      const std::int64_t key = scratch_[e].key;
+      if (e == 0 || key != scratch_[e - 1].key) {
+        if (e > 0) slot_pair_offset_.push_back(static_cast<int>(slot_pair_i_.size()));
+        const bool node_partner = key >= ng;
+        const int jn = node_partner ? static_cast<int>(key - ng) : -1;
+        slot_owner_.push_back(p);
+        slot_partner_grain_.push_back(node_partner ? nodes.grain[static_cast<std::size_t>(jn)] : static_cast<int>(key));
+        slot_partner_node_.push_back(jn);
+      }
+      slot_pair_i_.push_back(scratch_[e].i);
+      slot_pair_j_.push_back(scratch_[e].j);
+    }
+    if (!scratch_.empty()) slot_pair_offset_.push_back(static_cast<int>(slot_pair_i_.size()));
+  }
+  grain_slot_offset_[static_cast<std::size_t>(ng)] = static_cast<int>(slot_owner_.size());
+
+  // Slots by partner wall node (counting sort, slot order kept), for the reaction on the wall nodes.
+  wall_slot_offset_.assign(static_cast<std::size_t>(rows_) + 1, 0);
+  for (int jn : slot_partner_node_)
+    if (jn >= 0) ++wall_slot_offset_[static_cast<std::size_t>(jn) + 1];
+  for (int i = 0; i < rows_; ++i)
+    wall_slot_offset_[static_cast<std::size_t>(i) + 1] += wall_slot_offset_[static_cast<std::size_t>(i)];
+  wall_slot_.resize(static_cast<std::size_t>(wall_slot_offset_.back()));
+  std::vector<int> cursor(wall_slot_offset_.begin(), wall_slot_offset_.end() - 1);
+  for (int s = 0; s < static_cast<int>(slot_partner_node_.size()); ++s) {
+    const int jn = slot_partner_node_[static_cast<std::size_t>(s)];
+    if (jn >= 0) wall_slot_[static_cast<std::size_t>(cursor[static_cast<std::size_t>(jn)]++)] = s;
+  }
+}
+
+bool PdContactList::needs_rebuild(const PdNodes& nodes) const {
+  if (!built_ || stale_ || nodes.size() != x0_.size()) return true;
+  const int n = static_cast<int>(nodes.size());
+  const double* __restrict x = nodes.x.data();
+  const double* __restrict y = nodes.y.data();
+  const double* __restrict z = nodes.z.data();
+  const double* __restrict x0 = x0_.data();
+  const double* __restrict y0 = y0_.data();
+  const double* __restrict z0 = z0_.data();
+  double max_d2 = 0.0;
+  DEBRIS_KERNEL_MAX(max_d2)
+  for (int i = 0; i < n; ++i) {
+    const double dx = x[i] - x0[i], dy = y[i] - y0[i], dz = z[i] - z0[i];
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    max_d2 = d2 > max_d2 ? d2 : max_d2;
+  }
+  const double half_skin = 0.5 * skin_;
+  return max_d2 > half_skin * half_skin;
+}
+
+std::size_t PdContactList::bytes() const {
+  const std::size_t ints = offset_.capacity() + index_.capacity() + grain_slot_offset_.capacity() +
+                           slot_owner_.capacity() + slot_partner_grain_.capacity() + slot_partner_node_.capacity() +
+                           slot_pair_offset_.capacity() + slot_pair_i_.capacity() + slot_pair_j_.capacity() +
+                           wall_slot_offset_.capacity() + wall_slot_.capacity();
+  return sizeof(int) * ints + sizeof(double) * (x0_.capacity() + y0_.capacity() + z0_.capacity()) +
+         sizeof(SlotEntry) * scratch_.capacity() + cells_.bytes();
+}
+
+}  // namespace debris

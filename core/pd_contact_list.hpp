@@ -1,0 +1,86 @@
+#pragma once
+// Contact candidates between PeriDEM nodes (paper B, sections 2.2 and 3.2), as a full Verlet list in
+// compressed rows built on the CURRENT positions: j is in row i (and i in row j) when
+// |z_i - z_j| < cutoff + skin and the pair may touch:
+//   - nodes of two different grains, unless both are wall nodes (walls never touch walls);
+//   - nodes of one particle grain that no intact bond joins: the self-contact that stops a broken grain
+//     from interpenetrating itself (section 3.2, "Prevention of self-penetration").
+// Rows are built in two kernel passes (count, prefix sum, fill) over a cell list, so they are the same for
+// any thread count. The domain is bounded (no periodic axes): the cells cover the nodes' bounding box.
+// The list stays valid until some node has moved skin/2 or a bond has broken (request_rebuild).
+//
+// Grain-pair slots, for the damping between grain centres (eqs 26-30): the force between two grains is
+// one force per pair of grains in contact, however many node pairs touch. A slot is (owner particle grain
+// p, partner) with partner a grain q != p or, when q is a wall, one wall node (section 3.2 treats every wall
+// node as a grain of its own); it lists the node pairs of the Verlet list behind it. The slots of a grain
+// are contiguous, so the damping pass is O(N): one pass over slots, one over grains, one over nodes.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "core/cell_list.hpp"
+
+namespace debris {
+
+class PdNodes;
+struct PdGrains;
+class BondList;
+
+class PdContactList {
+ public:
+  /// Builds the rows and the grain-pair slots. cutoff: the largest contact radius (> 0), skin >= 0.
+  /// bonds: the grains' bond list, or an empty BondList when there are no bonds.
+  /// Throws InputError ("pd_contact.cutoff", "pd_contact.skin") for bad values, std::invalid_argument when
+  /// the grains, nodes and bonds do not fit together.
+  void build(const PdNodes& nodes, const PdGrains& grains, const BondList& bonds, double cutoff, double skin);
+
+  /// True when never built, the node count changed, a rebuild was requested, or some node moved more than
+  /// skin/2 since the build.
+  bool needs_rebuild(const PdNodes& nodes) const;
+  /// The runner calls this when a bond broke: its two nodes must enter the list as a self-contact pair.
+  void request_rebuild() { stale_ = true; }
+
+  int rows() const { return rows_; }
+  const std::vector<int>& offset() const { return offset_; }  // size rows() + 1
+  const std::vector<int>& index() const { return index_; }    // partner j of each entry
+  int entries() const { return offset_.empty() ? 0 : offset_.back(); }
+  double cutoff() const { return cutoff_; }
+  double skin() const { return skin_; }
+  const CellList& cells() const { return cells_; }
+
+  // Grain-pair slots.
+  int slots() const { return static_cast<int>(slot_owner_.size()); }
+  const std::vector<int>& grain_slot_offset() const { return grain_slot_offset_; }    // size grains + 1
+  const std::vector<int>& slot_owner() const { return slot_owner_; }                  // particle grain p
+  const std::vector<int>& slot_partner_grain() const { return slot_partner_grain_; }  // grain q (maybe a wall)
+  const std::vector<int>& slot_partner_node() const { return slot_partner_node_; }    // wall node, or -1
+  const std::vector<int>& slot_pair_offset() const { return slot_pair_offset_; }      // size slots() + 1
+  const std::vector<int>& slot_pair_i() const { return slot_pair_i_; }                // node of p
+  const std::vector<int>& slot_pair_j() const { return slot_pair_j_; }                // node of the partner
+  /// Slots whose partner is wall node j: wall_slot()[wall_slot_offset()[j] .. wall_slot_offset()[j+1]).
+  const std::vector<int>& wall_slot_offset() const { return wall_slot_offset_; }  // size rows() + 1
+  const std::vector<int>& wall_slot() const { return wall_slot_; }
+
+  std::size_t bytes() const;
+
+ private:
+  void build_slots(const PdNodes& nodes, const PdGrains& grains);
+
+  CellList cells_;
+  std::vector<int> offset_, index_;
+  std::vector<double> x0_, y0_, z0_;  // positions at the last build
+  int rows_ = 0;
+  double cutoff_ = 0, skin_ = 0;
+  bool built_ = false, stale_ = false;
+
+  std::vector<int> grain_slot_offset_, slot_owner_, slot_partner_grain_, slot_partner_node_;
+  std::vector<int> slot_pair_offset_, slot_pair_i_, slot_pair_j_;
+  std::vector<int> wall_slot_offset_, wall_slot_;
+  struct SlotEntry {
+    std::int64_t key;  // partner grain q, or grains + wall node
+    int i, j;
+  };
+  std::vector<SlotEntry> scratch_;  // kept between builds to avoid reallocating
+};
+
+}  // namespace debris

@@ -1,0 +1,222 @@
+#include "kernels/pd_contact.hpp"
+
+#include <stdexcept>
+
+#include "core/exec.hpp"
+#include "core/pd_contact_list.hpp"
+#include "core/pd_nodes.hpp"
+#include "kernels/pd_contact_force.hpp"
+
+namespace debris {
+
+namespace {
+
+void check_sizes(const PdContactTable& table, const PdNodes& nodes, const PdGrains& grains, const PdContactList& list) {
+  if (list.rows() != static_cast<int>(nodes.size()))
+    throw std::logic_error("pd contact: the contact list was built for another set of nodes");
+  if (static_cast<int>(list.grain_slot_offset().size()) != static_cast<int>(grains.size()) + 1)
+    throw std::logic_error("pd contact: the contact list was built for another set of grains");
+  for (int m : grains.material)
+    if (m < 0 || m >= table.materials) throw std::logic_error("pd contact: a grain's material is not in the table");
+  if (list.cutoff() < table.max_contact_radius())
+    throw std::logic_error("pd contact: the contact list's cutoff is below the largest contact radius");
+}
+
+}  // namespace
+
+void pd_grain_centres(const PdNodes& nodes, PdGrains& grains, PdContactWork& work) {
+  const int ng = static_cast<int>(grains.size());
+  work.grain_volume.resize(static_cast<std::size_t>(ng));
+  work.grain_mass.resize(static_cast<std::size_t>(ng));
+  const int* __restrict begin = grains.node_begin.data(), *__restrict end = grains.node_end.data();
+  const double* __restrict x = nodes.x.data(), *__restrict y = nodes.y.data(), *__restrict z = nodes.z.data();
+  const double* __restrict vx = nodes.vx.data(), *__restrict vy = nodes.vy.data(), *__restrict vz = nodes.vz.data();
+  const double* __restrict volume = nodes.volume.data(), *__restrict mass = nodes.mass.data();
+  double* __restrict cx = grains.cx.data(), *__restrict cy = grains.cy.data(), *__restrict cz = grains.cz.data();
+  double* __restrict cvx = grains.cvx.data(), *__restrict cvy = grains.cvy.data(), *__restrict cvz = grains.cvz.data();
+  double* __restrict g_vol = work.grain_volume.data(), *__restrict g_mass = work.grain_mass.data();
+  DEBRIS_KERNEL
+  for (int g = 0; g < ng; ++g) {
+    double v = 0.0, m = 0.0;
+    Vec3 c{}, u{};
+    for (int i = begin[g]; i < end[g]; ++i) {
+      const double w = volume[i];
+      v += w;
+      m += mass[i];
+      c += w * Vec3{x[i], y[i], z[i]};
+      u += w * Vec3{vx[i], vy[i], vz[i]};
+    }
+    const double inv = v > 0.0 ? 1.0 / v : 0.0;
+    cx[g] = inv * c.x;
+    cy[g] = inv * c.y;
+    cz[g] = inv * c.z;
+    cvx[g] = inv * u.x;
+    cvy[g] = inv * u.y;
+    cvz[g] = inv * u.z;
+    g_vol[g] = v;
+    g_mass[g] = m;
+  }
+}
+
+void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& nodes, PdGrains& grains,
+                     const PdContactList& list, PdContactWork& work, double dt) {
+  check_sizes(table, nodes, grains, list);
+  const int n = list.rows();
+  const int* __restrict offset = list.offset().data();
+  const int* __restrict index = list.index().data();
+  const double* __restrict x = nodes.x.data(), *__restrict y = nodes.y.data(), *__restrict z = nodes.z.data();
+  const double* __restrict vx = nodes.vx.data(), *__restrict vy = nodes.vy.data(), *__restrict vz = nodes.vz.data();
+  const double* __restrict volume = nodes.volume.data(), *__restrict mass = nodes.mass.data();
+  double* __restrict fx = nodes.fx.data(), *__restrict fy = nodes.fy.data(), *__restrict fz = nodes.fz.data();
+  const int* __restrict grain = nodes.grain.data();
+  const int* __restrict material = grains.material.data(), *__restrict kind = grains.kind.data();
+  const PdContactParams* __restrict pairs = table.pairs.data();
+  const int nm = table.materials;
+  const int node_damping = damping == PdDamping::node_pairs ? 1 : 0;
+  const int wall = static_cast<int>(PdGrainKind::wall);
+
+  // Node pairs: eqs 16-20, and eqs 21-25 with node damping. Each pair is evaluated from both ends with
+  // the same operations on negated differences, so the two ends get exactly opposite forces.
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    const int count = offset[i + 1] - offset[i];
+    if (count == 0) continue;
+    const int gi = grain[i];
+    const int mat_i = material[gi] * nm;
+    const int rigid_i = kind[gi] == wall;
+    const Vec3 zi{x[i], y[i], z[i]}, vi{vx[i], vy[i], vz[i]};
+    const double vol_i = volume[i], mass_i = mass[i];
+    const double share_i = mass_i / static_cast<double>(count);
+    Vec3 f{};
+    for (int k = offset[i]; k < offset[i + 1]; ++k) {
+      const int j = index[k];
+      const int gj = grain[j];
+      const double share_j = mass[j] / static_cast<double>(offset[j + 1] - offset[j]);
+      const double stick = pd_stick_mass(share_i, rigid_i, share_j, kind[gj] == wall);
+      const PdContactPairResult r = pd_contact_pair_force(pairs[mat_i + material[gj]], Vec3{x[j], y[j], z[j]} - zi,
+                                                          Vec3{vx[j], vy[j], vz[j]} - vi, vol_i, volume[j], mass_i,
+                                                          mass[j], stick, dt, gi == gj, node_damping);
+      f += r.force;
+    }
+    fx[i] += f.x;
+    fy[i] += f.y;
+    fz[i] += f.z;
+  }
+  if (damping != PdDamping::grain_centres) return;
+
+  // Damping between grain centres, eqs 26-30.
+  pd_grain_centres(nodes, grains, work);
+  const int ns = list.slots(), ng = static_cast<int>(grains.size());
+  for (auto* v : {&work.slot_fx, &work.slot_fy, &work.slot_fz}) v->resize(static_cast<std::size_t>(ns));
+  for (auto* v : {&work.grain_fx, &work.grain_fy, &work.grain_fz}) v->resize(static_cast<std::size_t>(ng));
+  const int* __restrict owner = list.slot_owner().data(), *__restrict partner = list.slot_partner_grain().data();
+  const int* __restrict partner_node = list.slot_partner_node().data();
+  const int* __restrict pair_offset = list.slot_pair_offset().data();
+  const int* __restrict pair_i = list.slot_pair_i().data(), *__restrict pair_j = list.slot_pair_j().data();
+  const double* __restrict cx = grains.cx.data(), *__restrict cy = grains.cy.data(), *__restrict cz = grains.cz.data();
+  const double* __restrict cvx = grains.cvx.data(), *__restrict cvy = grains.cvy.data();
+  const double* __restrict cvz = grains.cvz.data();
+  const double* __restrict g_vol = work.grain_volume.data(), *__restrict g_mass = work.grain_mass.data();
+  double* __restrict sfx = work.slot_fx.data(), *__restrict sfy = work.slot_fy.data();
+  double* __restrict sfz = work.slot_fz.data();
+
+  // One force per grain pair in contact (dist(Omega_p, Omega_p') < R_c).
+  DEBRIS_KERNEL
+  for (int s = 0; s < ns; ++s) {
+    const int p = owner[s], q = partner[s], jn = partner_node[s];
+    const PdContactParams& pp = pairs[material[p] * nm + material[q]];
+    const double rc2 = pp.r_c * pp.r_c;
+    int touching = 0;
+    for (int e = pair_offset[s]; e < pair_offset[s + 1] && !touching; ++e) {
+      const int i = pair_i[e], j = pair_j[e];
+      const double dx = x[j] - x[i], dy = y[j] - y[i], dz = z[j] - z[i];
+      touching = dx * dx + dy * dy + dz * dz < rc2;
+    }
+    Vec3 g{};
+    if (touching) {
+      const Vec3 zp{cx[p], cy[p], cz[p]}, vp{cvx[p], cvy[p], cvz[p]};
+      const Vec3 zq = jn >= 0 ? Vec3{x[jn], y[jn], z[jn]} : Vec3{cx[q], cy[q], cz[q]};
+      const Vec3 vq = jn >= 0 ? Vec3{vx[jn], vy[jn], vz[jn]} : Vec3{cvx[q], cvy[q], cvz[q]};
+      const double mq = jn >= 0 ? mass[jn] : g_mass[q];
+      g = pd_centre_damping_force(pp, zq - zp, vq - vp, g_mass[p], mq);
+    }
+    sfx[s] = g.x;
+    sfy[s] = g.y;
+    sfz[s] = g.z;
+  }
+
+  const int* __restrict grain_slot = list.grain_slot_offset().data();
+  double* __restrict gfx = work.grain_fx.data(), *__restrict gfy = work.grain_fy.data();
+  double* __restrict gfz = work.grain_fz.data();
+  DEBRIS_KERNEL
+  for (int p = 0; p < ng; ++p) {
+    Vec3 g{};
+    for (int s = grain_slot[p]; s < grain_slot[p + 1]; ++s) g += Vec3{sfx[s], sfy[s], sfz[s]};
+    gfx[p] = g.x;
+    gfy[p] = g.y;
+    gfz[p] = g.z;
+  }
+
+  // Eq 30: every node of p gets V_i / |Omega_p| of the grain force; a wall node the opposite of its slots.
+  const int* __restrict wall_offset = list.wall_slot_offset().data(), *__restrict wall_slot = list.wall_slot().data();
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    const int gi = grain[i];
+    Vec3 f{};
+    if (kind[gi] == wall) {
+      for (int k = wall_offset[i]; k < wall_offset[i + 1]; ++k) {
+        const int s = wall_slot[k];
+        f -= Vec3{sfx[s], sfy[s], sfz[s]};
+      }
+    } else {
+      f = (volume[i] / g_vol[gi]) * Vec3{gfx[gi], gfy[gi], gfz[gi]};
+    }
+    fx[i] += f.x;
+    fy[i] += f.y;
+    fz[i] += f.z;
+  }
+}
+
+void pd_wall_reactions(const PdNodes& nodes, const PdGrains& grains, std::vector<Vec3>& reaction) {
+  const int ng = static_cast<int>(grains.size());
+  reaction.assign(static_cast<std::size_t>(ng), Vec3{});
+  const int* __restrict begin = grains.node_begin.data(), *__restrict end = grains.node_end.data();
+  const int* __restrict kind = grains.kind.data();
+  const double* __restrict fx = nodes.fx.data(), *__restrict fy = nodes.fy.data(), *__restrict fz = nodes.fz.data();
+  Vec3* __restrict out = reaction.data();
+  const int wall = static_cast<int>(PdGrainKind::wall);
+  DEBRIS_KERNEL
+  for (int g = 0; g < ng; ++g) {
+    if (kind[g] != wall) continue;
+    Vec3 r{};
+    for (int i = begin[g]; i < end[g]; ++i) r += Vec3{fx[i], fy[i], fz[i]};
+    out[g] = r;
+  }
+}
+
+double pd_contact_elastic_energy(const PdContactTable& table, const PdNodes& nodes, const PdGrains& grains,
+                                 const PdContactList& list) {
+  check_sizes(table, nodes, grains, list);
+  const int n = list.rows();
+  const int* offset = list.offset().data();
+  const int* index = list.index().data();
+  const double *x = nodes.x.data(), *y = nodes.y.data(), *z = nodes.z.data();
+  const double* volume = nodes.volume.data();
+  const int* grain = nodes.grain.data();
+  const int* material = grains.material.data();
+  const PdContactParams* pairs = table.pairs.data();
+  const int nm = table.materials;
+  double energy = 0.0;
+  DEBRIS_KERNEL_SUM(energy)
+  for (int i = 0; i < n; ++i) {
+    for (int k = offset[i]; k < offset[i + 1]; ++k) {
+      const int j = index[k];
+      const double d = norm(Vec3{x[j] - x[i], y[j] - y[i], z[j] - z[i]});
+      // A full list holds each pair twice.
+      energy += 0.5 * pd_contact_energy(pairs[material[grain[i]] * nm + material[grain[j]]], d, volume[i], volume[j]);
+    }
+  }
+  return energy;
+}
+
+}  // namespace debris

@@ -1,0 +1,63 @@
+#pragma once
+// The PeriDEM contact passes (paper B, sections 2.2-2.3 and 3.2) over a PdContactList: normal force and
+// friction between nodes (eqs 16-20, kernels/pd_contact_force.hpp) and one of the paper's two dampings,
+// between nodes (eqs 21-25) or between grain centres (eqs 26-30, the paper's choice). Every pass writes
+// only to its own row (node, slot or grain), so there are no atomics and the results are the same bits for
+// any number of threads, on host threads and on a GPU.
+//
+// Damping between grain centres. Eq 27 is one force density at the centre of grain p per grain p' in
+// contact (dist < R_c: some node pair closer than R_c), and eq 30 applies it at every node of p; times the
+// nodal volume, node i of p receives V_i / |Omega_p| of the grain-pair force beta-bar delta_dot_c e, so the
+// grain as a whole receives the force once, whatever the number of touching node pairs. A wall node is a
+// partner of its own (section 3.2): its position, velocity and nodal mass stand for z_c', v_c', rho'|Omega'|.
+// Passes: per-grain centres (pd_grain_centres), per-slot forces (a slot is one grain pair of the list, see
+// core/pd_contact_list.hpp), per-grain sums, per-node spreading; the wall nodes take the opposite of the
+// slot forces of their particle partners, so the contact forces of a step sum to zero (round-off).
+//
+// Notes against PeriDEM's src/model/dem/demModel.cpp: it damps grain pairs in an O(N_p^2) serial loop,
+// decides contact between bounding circles (|x_c - x_c'| < R + R' + 1.01 R_c) instead of dist < R_c,
+// divides by pi R^2 instead of |Omega_p|, and uses the particle mass alone as M_eq against a wall node (the
+// paper's text gives eq 29 with the node's mass, which we follow). Because the dashpot acts along the line
+// from the grain centre to the wall node, a grain sliding past a wall is also slowed by it (rate < 0 for the
+// wall nodes ahead of the centre); that is the paper's model, kept as written.
+#include <vector>
+
+#include "core/vec3.hpp"
+#include "kernels/pd_contact_params.hpp"
+
+namespace debris {
+
+class PdNodes;
+struct PdGrains;
+class PdContactList;
+
+/// The two dampings of section 2.3. Restitution 1 switches either off (eq 23 gives beta = 0).
+enum class PdDamping : int { node_pairs = 0, grain_centres = 1 };
+
+/// Scratch of the contact passes, sized by them (no allocation once the sizes are stable).
+struct PdContactWork {
+  std::vector<double> grain_volume, grain_mass;      // sums over each grain's nodes
+  std::vector<double> slot_fx, slot_fy, slot_fz;     // damping force of each grain-pair slot on its owner
+  std::vector<double> grain_fx, grain_fy, grain_fz;  // total centre damping force on each grain
+};
+
+/// Per-grain reduction: volume-weighted centre and mean velocity of every grain into grains.cx .. cvz, and
+/// each grain's volume and mass (sums of V_i and m_i) into work.
+void pd_grain_centres(const PdNodes& nodes, PdGrains& grains, PdContactWork& work);
+
+/// Adds the contact forces of one step to nodes.fx .. fz: normal force (eqs 16-18), friction (eqs 19-20,
+/// capped to stop but never reverse the sliding within a step), and the chosen damping. Self-contact pairs
+/// (one grain, bond broken) get the normal force only (section 3.2). dt: the time step (friction cap).
+/// With grain_centres, refreshes the grain centres first (pd_grain_centres).
+void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& nodes, PdGrains& grains,
+                     const PdContactList& list, PdContactWork& work, double dt);
+
+/// Total force on each wall grain (the sum over its nodes; particles get zero): the wall's reaction. Call it
+/// after the force passes: wall nodes receive contact forces only (no bonds, no gravity).
+void pd_wall_reactions(const PdNodes& nodes, const PdGrains& grains, std::vector<Vec3>& reaction);
+
+/// Elastic energy stored in the contact springs, sum over pairs of 1/2 K_n delta^2 V V' (diagnostics).
+double pd_contact_elastic_energy(const PdContactTable& table, const PdNodes& nodes, const PdGrains& grains,
+                                 const PdContactList& list);
+
+}  // namespace debris
