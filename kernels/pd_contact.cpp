@@ -120,12 +120,12 @@ void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& no
   double* __restrict sfx = work.slot_fx.data(), *__restrict sfy = work.slot_fy.data();
   double* __restrict sfz = work.slot_fz.data();
 
-  // One force per grain pair in contact (dist(Omega_p, Omega_p') < R_c).
+  // One force per grain pair in contact (dist(Omega_p, Omega_p') < R_c, or the onset factor times it).
   DEBRIS_KERNEL
   for (int s = 0; s < ns; ++s) {
     const int p = owner[s], q = partner[s], jn = partner_node[s];
     const PdContactParams& pp = pairs[material[p] * nm + material[q]];
-    const double rc2 = pp.r_c * pp.r_c;
+    const double rc2 = pp.damping_onset * pp.damping_onset;
     int touching = 0;
     for (int e = pair_offset[s]; e < pair_offset[s + 1] && !touching; ++e) {
       const int i = pair_i[e], j = pair_j[e];

@@ -1,5 +1,6 @@
 #include "kernels/pd_contact_params.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -31,6 +32,8 @@ void check_settings(const PdContactSettings& s, const std::string& key) {
   require(finite(s.friction) && s.friction >= 0, key + ".friction", s.friction, "must be finite and >= 0");
   require(finite(s.stiffness_factor) && s.stiffness_factor > 0, key + ".stiffness_factor", s.stiffness_factor,
           "must be finite and > 0");
+  require(finite(s.damping_onset_factor) && s.damping_onset_factor >= 1 && s.damping_onset_factor < 2,
+          key + ".damping_onset_factor", s.damping_onset_factor, "must be in [1, 2) (1: the paper's text; 1.01: its code)");
 }
 
 // Eq 36 for one material.
@@ -58,12 +61,13 @@ PdContactParams pd_contact_params(const PdMaterial& a, const PdMaterial& b, cons
   const double l = std::log(s.restitution);  // <= 0
   p.beta_coef = -2.0 * s.damping_factor * l / std::sqrt(std::numbers::pi * std::numbers::pi + l * l);
   p.mu = s.friction;
+  p.damping_onset = s.damping_onset_factor * p.r_c;
   return p;
 }
 
 double PdContactTable::max_contact_radius() const {
   double r = 0.0;
-  for (const PdContactParams& p : pairs) r = p.r_c > r ? p.r_c : r;
+  for (const PdContactParams& p : pairs) r = std::max({r, p.r_c, p.damping_onset});
   return r;
 }
 
@@ -87,7 +91,8 @@ PdContactTable pd_contact_table(const std::vector<PdMaterial>& materials,
       const PdContactSettings& s = settings[static_cast<std::size_t>(a * n + b)];
       const PdContactSettings& r = settings[static_cast<std::size_t>(b * n + a)];
       if (s.contact_radius_factor != r.contact_radius_factor || s.restitution != r.restitution ||
-          s.damping_factor != r.damping_factor || s.friction != r.friction || s.stiffness_factor != r.stiffness_factor)
+          s.damping_factor != r.damping_factor || s.friction != r.friction || s.stiffness_factor != r.stiffness_factor ||
+          s.damping_onset_factor != r.damping_onset_factor)
         throw input_error("contact." + std::to_string(b) + "_" + std::to_string(a), "(differs)",
                           "must equal " + key + ": contact between two materials is one law");
       // Computed once and mirrored, so that both ends of a pair read the same bits.

@@ -27,6 +27,10 @@ struct PdContactSettings {
   double damping_factor = 100.0;        // C of eq 23, C-bar of eq 28 (Beta_n_Factor), > 0
   double friction = 0.0;                // mu of eq 20 (Friction_Coeff; 0 when Friction_On is false), >= 0
   double stiffness_factor = 1.0;        // multiplies K_n of eq 36 (Kn_Factor), > 0
+  // The centre damping (eqs 26-30) acts while dist(Omega_p, Omega_p') < factor R_c: 1 is the paper's text;
+  // the authors' code, which made Tables 2-3, switches it on at 1.01 R_c (between bounding circles), and
+  // because it acts only while the grains approach, that 1% band matters (README, PeriDEM section).
+  double damping_onset_factor = 1.0;    // in [1, 2)
 };
 
 /// Everything the contact kernels need for one pair of materials.
@@ -36,6 +40,7 @@ struct PdContactParams {
   double kappa_eff;  // eq 25
   double beta_coef;  // -2 C log(e_n) / sqrt(pi^2 + log(e_n)^2): beta = beta_coef sqrt(kappa_eff R_c m_eq)
   double mu;         // friction coefficient
+  double damping_onset;  // damping_onset_factor * R_c: grain pairs closer than this are damped (eq 27)
 };
 
 /// Eqs 25, 36, 23 for materials a and b. h_min: the mesh size of eq 35 (smallest distance between two
@@ -50,7 +55,7 @@ struct PdContactTable {
   std::vector<PdContactParams> pairs;  // pairs[a * materials + b]
 
   const PdContactParams& pair(int a, int b) const { return pairs[static_cast<std::size_t>(a * materials + b)]; }
-  /// Largest R_c over all pairs: the cutoff of the contact list.
+  /// Largest R_c (or damping onset, when larger) over all pairs: the cutoff of the contact list.
   double max_contact_radius() const;
 };
 

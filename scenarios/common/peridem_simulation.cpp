@@ -1,0 +1,276 @@
+#include "scenarios/common/peridem_simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/exec.hpp"
+#include "kernels/pd_bond_passes.hpp"
+#include "kernels/pd_integrate.hpp"
+
+namespace debris {
+
+namespace {
+
+bool is_particle(const PdGrains& g, int k) { return g.kind[k] == static_cast<int>(PdGrainKind::particle); }
+
+// Largest eigenvalue of M^-1 K for the linearised bond forces about the reference state, by power
+// iteration with the Rayleigh quotient (from below; 200 iterations bring it within a few per cent on the
+// paper's grains, and the caller adds a margin). K u is evaluated as -f(x0 + a u) / a with an amplitude
+// a 1e-7 of the mesh size: the bond force is smooth there and f(x0) = 0.
+double bond_lambda_max(const PdNodes& reference, const PdGrains& grains, const BondList& bonds,
+                       const std::vector<PdLpsConstants>& lps, double h, int dimension) {
+  const std::size_t n = reference.size();
+  if (bonds.entries() == 0) return 0.0;
+  PdNodes work = reference;
+  std::vector<double> u(3 * n, 0.0), ku(3 * n);
+  std::mt19937_64 rng(12345);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  auto movable = [&](std::size_t i) {
+    return is_particle(grains, work.grain[i]) && bonds.offset[i + 1] > bonds.offset[i] && work.mass[i] > 0;
+  };
+  for (std::size_t i = 0; i < n; ++i)
+    if (movable(i))
+      for (int c = 0; c < dimension; ++c) u[3 * i + static_cast<std::size_t>(c)] = uni(rng);
+  double lambda = 0.0;
+  for (int it = 0; it < 200; ++it) {
+    double umax = 0.0;
+    for (double v : u) umax = std::max(umax, std::abs(v));
+    if (umax == 0.0) return 0.0;
+    for (double& v : u) v /= umax;  // keep the iterate O(1)
+    const double a = 1e-7 * h;
+    for (std::size_t i = 0; i < n; ++i) {
+      work.x[i] = reference.x0[i] + a * u[3 * i];
+      work.y[i] = reference.y0[i] + a * u[3 * i + 1];
+      work.z[i] = reference.z0[i] + a * u[3 * i + 2];
+    }
+    pd_zero_forces(work);
+    pd_dilatation_pass(lps, grains, bonds, work);
+    pd_bond_force_pass(lps, grains, bonds, work);
+    double uku = 0.0, umu = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!movable(i)) continue;
+      const double f[3] = {work.fx[i], work.fy[i], work.fz[i]};
+      for (int c = 0; c < 3; ++c) {
+        const std::size_t k = 3 * i + static_cast<std::size_t>(c);
+        ku[k] = -f[c] / a;
+        uku += u[k] * ku[k];
+        umu += u[k] * work.mass[i] * u[k];
+      }
+    }
+    lambda = uku / umu;
+    for (std::size_t i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) {
+        const std::size_t k = 3 * i + static_cast<std::size_t>(c);
+        u[k] = movable(i) && c < dimension ? ku[k] / work.mass[i] : 0.0;
+      }
+  }
+  return lambda;
+}
+
+}  // namespace
+
+double pd_mesh_size(const PdNodes& nodes, const PdGrains& grains) {
+  double h = std::numeric_limits<double>::infinity();
+  for (std::size_t g = 0; g < grains.size(); ++g) {
+    const int b = grains.node_begin[g], e = grains.node_end[g];
+    if (e - b < 2) continue;
+    // Sweep along x: for each node, scan the nodes after it in x while their x gap is below the best h.
+    std::vector<int> order(static_cast<std::size_t>(e - b));
+    for (int i = b; i < e; ++i) order[static_cast<std::size_t>(i - b)] = i;
+    std::sort(order.begin(), order.end(), [&](int p, int q) { return nodes.x0[p] < nodes.x0[q]; });
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t a = 0; a < order.size(); ++a) {
+      const int i = order[a];
+      for (std::size_t c = a + 1; c < order.size(); ++c) {
+        const int j = order[c];
+        const double dx = nodes.x0[j] - nodes.x0[i];
+        if (dx >= best) break;
+        const double d = std::sqrt(dx * dx + (nodes.y0[j] - nodes.y0[i]) * (nodes.y0[j] - nodes.y0[i]) +
+                                   (nodes.z0[j] - nodes.z0[i]) * (nodes.z0[j] - nodes.z0[i]));
+        if (d > 0) best = std::min(best, d);
+      }
+    }
+    h = std::min(h, best);
+  }
+  return h;
+}
+
+PeridemSimulation::PeridemSimulation(PdNodes nodes, PdGrains grains, std::vector<PdMaterial> materials,
+                                     std::vector<PdContactSettings> contact, PeridemSettings settings)
+    : nodes_(std::move(nodes)), grains_(std::move(grains)), materials_(std::move(materials)), settings_(settings) {
+  if (materials_.empty()) throw input_error("materials", "(none)", "at least one material is needed");
+  if (nodes_.size() == 0) throw input_error("grains", "(none)", "no nodes to simulate");
+  if (!(settings_.time_step > 0) || !std::isfinite(settings_.time_step))
+    throw input_error("run.time_step", format_value(settings_.time_step), "must be > 0");
+  if (!(settings_.skin >= 0)) throw input_error("run.skin", format_value(settings_.skin), "must be >= 0");
+  lps_.clear();
+  for (std::size_t m = 0; m < materials_.size(); ++m) {
+    const std::string prefix = "materials[" + std::to_string(m) + "]";
+    lps_.push_back(PdLpsConstants::from(materials_[m], prefix.c_str()));
+  }
+  for (std::size_t g = 0; g < grains_.size(); ++g) {
+    const int mat = grains_.material[g];
+    if (mat < 0 || static_cast<std::size_t>(mat) >= materials_.size())
+      throw input_error("grains[" + std::to_string(g) + "].material", std::to_string(mat),
+                        "must name one of the " + std::to_string(materials_.size()) + " materials");
+    for (int i = grains_.node_begin[g]; i < grains_.node_end[g]; ++i) {
+      if (!(nodes_.volume[i] > 0))
+        throw input_error("node " + std::to_string(nodes_.id[i]) + " volume", format_value(nodes_.volume[i]),
+                          "must be > 0");
+      nodes_.mass[i] = materials_[static_cast<std::size_t>(mat)].density * nodes_.volume[i];
+    }
+  }
+  mesh_size_ = pd_mesh_size(nodes_, grains_);
+  if (!std::isfinite(mesh_size_))
+    throw input_error("grains", "(single nodes)", "every grain and wall needs at least two nodes (eq 35)");
+  if (contact.size() == 1)
+    table_ = pd_contact_table(materials_, contact.front(), mesh_size_);
+  else
+    table_ = pd_contact_table(materials_, contact, mesh_size_);
+
+  std::vector<double> horizon(grains_.size());
+  for (std::size_t g = 0; g < grains_.size(); ++g)
+    horizon[g] = materials_[static_cast<std::size_t>(grains_.material[g])].horizon;
+  bonds_ = BondList::build(nodes_, grains_, horizon);
+  pd_weighted_volume_pass(lps_, grains_, bonds_, nodes_);
+
+  // Stability of eq 32: omega_max^2 of the linearised bonds (power iteration) plus that of one contact
+  // spring K_n V_i V_j between node i and the largest node j, k (1/m_i + 1/m_j) (eq 17 linearised). Both
+  // are per-node stiffnesses, so the sum bounds the combination from above (Weyl), up to the power
+  // iteration's estimate, which gets a 10% margin.
+  int dimension = 2;
+  for (const PdMaterial& m : materials_) dimension = std::max(dimension, m.dimension);
+  const double lambda_bonds =
+      1.10 * bond_lambda_max(nodes_, grains_, bonds_, lps_, mesh_size_, dimension);
+  double vmax = 0;
+  for (std::size_t i = 0; i < nodes_.size(); ++i) vmax = std::max(vmax, nodes_.volume[i]);
+  double lambda_contact = 0.0;
+  for (std::size_t a = 0; a < materials_.size(); ++a)
+    for (std::size_t b = 0; b < materials_.size(); ++b) {
+      const PdContactParams& p = table_.pair(static_cast<int>(a), static_cast<int>(b));
+      lambda_contact = std::max(lambda_contact, p.k_n * vmax * (1.0 / materials_[a].density + 1.0 / materials_[b].density));
+    }
+  stable_dt_ = 2.0 / std::sqrt(lambda_bonds + lambda_contact);
+  if (settings_.time_step > stable_dt_ && !settings_.allow_unstable_time_step)
+    throw input_error("run.time_step", format_value(settings_.time_step),
+                      "is above the stable step " + format_value(stable_dt_) +
+                          " s of eq 32 for these bonds and contacts (set run.allow_unstable_time_step: true to insist)");
+
+  skin_ = settings_.skin > 0 ? settings_.skin : table_.max_contact_radius();
+  rebuild_contacts();
+  compute_forces();
+}
+
+void PeridemSimulation::rebuild_contacts() {
+  list_.build(nodes_, grains_, bonds_, table_.max_contact_radius(), skin_);
+  ++rebuilds_;
+}
+
+void PeridemSimulation::compute_forces() {
+  pd_zero_forces(nodes_);
+  pd_gravity_pass(nodes_, grains_, settings_.gravity);
+  const long broke = pd_bond_step(lps_, grains_, bonds_, nodes_);
+  if (broke > 0) {
+    broken_total_ += broke;
+    list_.request_rebuild();  // the two nodes of a broken bond may now touch (self-contact)
+  }
+  if (list_.needs_rebuild(nodes_)) rebuild_contacts();
+  pd_contact_pass(table_, settings_.damping, nodes_, grains_, list_, work_, settings_.time_step);
+}
+
+void PeridemSimulation::step() {
+  pd_integrate(nodes_, grains_, settings_.time_step, step_ == 0);
+  ++step_;
+  time_ += settings_.time_step;
+  if (list_.needs_rebuild(nodes_)) rebuild_contacts();
+  compute_forces();
+}
+
+void PeridemSimulation::run(long steps) {
+  for (long s = 0; s < steps; ++s) step();
+}
+
+void PeridemSimulation::refresh_grain_centres() { pd_grain_centres(nodes_, grains_, work_); }
+
+std::vector<Vec3> PeridemSimulation::wall_reactions() const {
+  std::vector<Vec3> r;
+  pd_wall_reactions(nodes_, grains_, r);
+  return r;
+}
+
+void PeridemSimulation::set_grain_velocity(int g, Vec3 v) {
+  for (int i = grains_.node_begin[g]; i < grains_.node_end[g]; ++i) {
+    nodes_.vx[i] = nodes_.fixed[i] & 1 ? 0.0 : v.x;
+    nodes_.vy[i] = nodes_.fixed[i] & 2 ? 0.0 : v.y;
+    nodes_.vz[i] = nodes_.fixed[i] & 4 ? 0.0 : v.z;
+  }
+}
+
+PeridemDiagnostics PeridemSimulation::diagnostics() {
+  PeridemDiagnostics d;
+  const std::size_t n = nodes_.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!is_particle(grains_, nodes_.grain[i])) continue;
+    const double m = nodes_.mass[i];
+    d.kinetic_energy += 0.5 * m * (nodes_.vx[i] * nodes_.vx[i] + nodes_.vy[i] * nodes_.vy[i] + nodes_.vz[i] * nodes_.vz[i]);
+    d.momentum += Vec3{m * nodes_.vx[i], m * nodes_.vy[i], m * nodes_.vz[i]};
+  }
+  d.bond_energy = pd_elastic_energy(lps_, grains_, bonds_, nodes_);
+  d.contact_energy = pd_contact_elastic_energy(table_, nodes_, grains_, list_);
+  pd_damage_pass(lps_, grains_, bonds_, nodes_);
+  for (std::size_t i = 0; i < n; ++i) d.max_damage = std::max(d.max_damage, nodes_.damage[i]);
+  d.broken_bonds = broken_total_;
+  d.contact_pairs = touching_pairs();
+  return d;
+}
+
+long PeridemSimulation::touching_pairs() const {
+  const std::vector<int>& off = list_.offset();
+  const std::vector<int>& idx = list_.index();
+  long touching = 0;
+  for (int i = 0; i < list_.rows(); ++i)
+    for (int k = off[i]; k < off[i + 1]; ++k) {
+      const int j = idx[k];
+      if (j <= i) continue;
+      const double rc = table_.pair(grains_.material[nodes_.grain[i]], grains_.material[nodes_.grain[j]]).r_c;
+      const double dx = nodes_.x[j] - nodes_.x[i], dy = nodes_.y[j] - nodes_.y[i], dz = nodes_.z[j] - nodes_.z[i];
+      if (dx * dx + dy * dy + dz * dz < rc * rc) ++touching;
+    }
+  return touching;
+}
+
+std::string PeridemSimulation::health_check() const {
+  for (std::size_t i = 0; i < nodes_.size(); ++i) {
+    const double v[9] = {nodes_.x[i], nodes_.y[i], nodes_.z[i], nodes_.vx[i], nodes_.vy[i],
+                         nodes_.vz[i], nodes_.fx[i], nodes_.fy[i], nodes_.fz[i]};
+    for (double c : v)
+      if (!std::isfinite(c)) {
+        std::ostringstream os;
+        os << "step " << step_ << ": node " << nodes_.id[i] << " (grain " << nodes_.grain[i]
+           << ") has a non-finite position, velocity or force: position (" << nodes_.x[i] << ", " << nodes_.y[i]
+           << ", " << nodes_.z[i] << "), velocity (" << nodes_.vx[i] << ", " << nodes_.vy[i] << ", "
+           << nodes_.vz[i] << ")";
+        return os.str();
+      }
+  }
+  return {};
+}
+
+std::string PeridemSimulation::summary() const {
+  std::ostringstream os;
+  long particles = 0, walls = 0;
+  for (std::size_t g = 0; g < grains_.size(); ++g) (is_particle(grains_, static_cast<int>(g)) ? particles : walls)++;
+  os << nodes_.size() << " nodes in " << particles << " grains and " << walls << " walls; " << bonds_.entries() / 2
+     << " bonds; mesh size h = " << mesh_size_ << " m (eq 35), contact radius R_c = " << table_.pair(0, 0).r_c
+     << " m, K_n = " << table_.pair(0, 0).k_n << " (eq 36); dt = " << settings_.time_step
+     << " s, stable step " << stable_dt_ << " s (" << settings_.time_step / stable_dt_ << " of it); damping "
+     << (settings_.damping == PdDamping::grain_centres ? "between grain centres (eqs 26-30)"
+                                                        : "between nodes (eqs 21-25)");
+  return os.str();
+}
+
+}  // namespace debris

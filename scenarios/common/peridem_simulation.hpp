@@ -1,0 +1,115 @@
+#pragma once
+// The PeriDEM step loop (paper B), assembled once from the passes of kernels/ (shared/DESIGN.md):
+//
+//   integrate (eq 32) -> contact list if needed -> zero forces -> gravity -> bonds (break, theta, force:
+//   eqs 10-13, 33-34) -> contact list again if a bond broke (self-contact) -> contact + damping
+//   (eqs 16-30) -> wall reactions
+//
+// Forces at step n use x^n; eq 32 in velocity form gives v^{n+1/2} = v^{n-1/2} + dt f^n / m and
+// x^{n+1} = x^n + dt v^{n+1/2} (kernels/pd_integrate.hpp). The stored velocity is half a step behind the
+// positions; the first step kicks by dt/2 from the initial velocity.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/bond_list.hpp"
+#include "core/pd_contact_list.hpp"
+#include "core/pd_nodes.hpp"
+#include "core/vec3.hpp"
+#include "kernels/pd_contact.hpp"
+#include "kernels/pd_contact_params.hpp"
+#include "kernels/pd_material.hpp"
+
+namespace debris {
+
+struct PeridemSettings {
+  double time_step = 0;                   // s, > 0
+  bool allow_unstable_time_step = false;  // the user insists on a step above the stable one
+  Vec3 gravity{};                         // m/s^2, acts on particle nodes
+  PdDamping damping = PdDamping::grain_centres;
+  double skin = 0;  // Verlet skin of the contact list; 0 = the contact radius R_c
+};
+
+/// Sums over the system at one instant.
+struct PeridemDiagnostics {
+  double kinetic_energy = 0;  // 1/2 m v^2 over particle nodes (v half a step behind x)
+  double bond_energy = 0;     // LPS elastic energy of the grains
+  double contact_energy = 0;  // energy in the contact springs
+  double max_damage = 0;      // largest Z of eq 14 (|s| / s_0)
+  long broken_bonds = 0;      // bonds broken since the start
+  long contact_pairs = 0;     // node pairs closer than R_c (each counted once)
+  Vec3 momentum{};            // of the particle nodes
+};
+
+class PeridemSimulation {
+ public:
+  /// `nodes` and `grains` as placed (core/grain_placement.hpp): masses are set here from the grains'
+  /// materials. `contact` holds one PdContactSettings for every pair of materials (or one for all).
+  /// Validates everything (InputError naming the key and value), builds the bonds, the weighted volumes,
+  /// the contact list, and evaluates the forces at step 0.
+  PeridemSimulation(PdNodes nodes, PdGrains grains, std::vector<PdMaterial> materials,
+                    std::vector<PdContactSettings> contact, PeridemSettings settings);
+
+  void step();
+  void run(long steps);
+
+  // State.
+  const PdNodes& nodes() const { return nodes_; }
+  PdNodes& nodes() { return nodes_; }
+  const PdGrains& grains() const { return grains_; }
+  PdGrains& grains() { return grains_; }
+  const BondList& bonds() const { return bonds_; }
+  const PdContactList& contacts() const { return list_; }
+  const PdContactTable& contact_table() const { return table_; }
+  const std::vector<PdMaterial>& materials() const { return materials_; }
+  const PeridemSettings& settings() const { return settings_; }
+  long step_count() const { return step_; }
+  double time() const { return time_; }
+  double dt() const { return settings_.time_step; }
+  /// h of eq 35: the smallest distance between two nodes of one grain or wall (reference configuration).
+  double mesh_size() const { return mesh_size_; }
+  /// Largest stable step of the central difference, 2 / omega_max, for the linearised bonds plus one
+  /// contact spring per node (see stable_time_step in the .cpp).
+  double stable_time_step() const { return stable_dt_; }
+  long broken_bonds() const { return broken_total_; }
+  long contact_rebuilds() const { return rebuilds_; }
+
+  /// Grain centres and mean velocities (volume-weighted) at the current step, refreshed on demand.
+  void refresh_grain_centres();
+  /// Total contact force on each wall grain this step (zero for particles).
+  std::vector<Vec3> wall_reactions() const;
+  PeridemDiagnostics diagnostics();
+  /// Node pairs closer than their contact radius R_c now (each pair once).
+  long touching_pairs() const;
+  /// Empty when every position, velocity and force is finite; otherwise names the step and the node.
+  std::string health_check() const;
+
+  /// Sets every node of grain g to velocity v (initial conditions; before the first step).
+  void set_grain_velocity(int g, Vec3 v);
+
+  /// One paragraph: nodes, grains, bonds, h, R_c, K_n, dt against the stable step.
+  std::string summary() const;
+
+ private:
+  void compute_forces();
+  void rebuild_contacts();
+
+  PdNodes nodes_;
+  PdGrains grains_;
+  std::vector<PdMaterial> materials_;
+  std::vector<PdLpsConstants> lps_;
+  PdContactTable table_;
+  PeridemSettings settings_;
+  BondList bonds_;
+  PdContactList list_;
+  PdContactWork work_;
+  double mesh_size_ = 0, stable_dt_ = 0, skin_ = 0;
+  long step_ = 0, broken_total_ = 0, rebuilds_ = 0;
+  double time_ = 0;
+};
+
+/// h of eq 35 per grain, minimised: the smallest reference distance between two nodes of one grain (the
+/// mesh's own spacing; nodes of different grains may be anywhere). A sweep along x, not all pairs.
+double pd_mesh_size(const PdNodes& nodes, const PdGrains& grains);
+
+}  // namespace debris
