@@ -210,7 +210,8 @@ std::string DemSimulation::health_check(const CohesiveDiagnostics& diag, double 
 }
 
 std::string DemSimulation::summary() const {
-  const std::size_t i = static_cast<std::size_t>(limits_.particle);
+  // limits_.particle indexes the storage order at set-up; particles have been sorted by cell since.
+  const std::size_t i = static_cast<std::size_t>(stability_limits(coef_, p_).particle);
   const CohesivePairParams pp = cohesive_pair_params(coef_, p_.radius[i], p_.radius[i], p_.mass[i], p_.mass[i]);
   std::ostringstream os;
   os << std::setprecision(6);
