@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 #include "core/error.hpp"
 #include "core/grain_placement.hpp"
@@ -125,6 +126,13 @@ TwoParticleDropResult run_two_particle_drop(const TwoParticleDrop& spec) {
   // Eq 37 (with an initial speed, the height it would have fallen from at rest: H0 + v0^2 / 2g).
   r.restitution_coefficient =
       std::sqrt(r.rebound_height / (spec.drop_height + spec.initial_speed * spec.initial_speed / (2.0 * spec.gravity)));
+  // Energy can only be lost: a rebound above the drop height means the run was unstable (possible only with
+  // allow_unstable_time_step), and its numbers mean nothing.
+  if (!(r.restitution_coefficient < 1.02))
+    throw std::runtime_error("the top grain rebounded with C_R = " + format_value(r.restitution_coefficient) +
+                             " > 1: the contact gained energy, so the time step " + format_value(spec.time_step) +
+                             " s is unstable for these grains (stable estimate " + format_value(sim.stable_time_step()) +
+                             " s)");
   r.contact_time = static_cast<double>(last_touch - first_touch + 1) * dt;
   const PeridemDiagnostics d = sim.diagnostics();
   r.broken_bonds = d.broken_bonds;
