@@ -48,6 +48,21 @@ TEST(PdRestitution, ShortcutEqualsFullDropAndRise) {
   EXPECT_GT(full.steps, 5 * shortcut.steps);
 }
 
+// Section 4.1, "Fracture simulations": the top grain hits the fixed one at v0; the damage of eq 14 near the
+// contact passes 1 (the fracture zone of eq 15) and grows with v0. The bottom grain is rigid (Z = 0).
+TEST(PdRestitution, ImpactDamageGrowsWithSpeed) {
+  double previous = 0.0;
+  for (double v0 : {2.0, 5.0}) {
+    TwoParticleDrop d = table2_case(0.95);
+    d.initial_speed = v0;
+    const TwoParticleDropResult r = run_two_particle_drop(d);
+    EXPECT_GE(r.top_max_damage, 1.0) << "v0 = " << v0;
+    EXPECT_GT(r.top_max_damage, previous) << "v0 = " << v0;
+    EXPECT_EQ(r.bottom_max_damage, 0.0);
+    previous = r.top_max_damage;
+  }
+}
+
 TEST(PdRestitution, BadInputNamesTheKey) {
   TwoParticleDrop d = table2_case(0.95);
   d.top_radius = -1e-3;

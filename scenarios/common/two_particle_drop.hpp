@@ -46,8 +46,8 @@ struct TwoParticleDropResult {
   double contact_time = 0;             // s, from the first to the last touching node pair
   long steps = 0;
   long broken_bonds = 0;
-  double max_damage = 0;               // Z of eq 14, both grains
-  double bottom_max_damage = 0, top_max_damage = 0;
+  double max_damage = 0;               // Z of eq 14, both grains, largest over the run
+  double bottom_max_damage = 0, top_max_damage = 0;  // the same per grain, over the contact
   long nodes = 0;
   double wall_seconds = 0;
 };
