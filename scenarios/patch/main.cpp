@@ -1,0 +1,175 @@
+// debris_patch: the patch tests of the cohesive DEM (Pham-Ba & Molinari, section 3): elastic (confined
+// compression: C11, C12, E, nu), tension and shear (strengths), on HCP lattices in either orientation or on
+// samples read from LAMMPS data files, swept over tests, samples, nu, s and d0 as the YAML input says.
+// Writes cases.csv (one row per case), the stress-strain curve of each strength test, and PNG plots drawn
+// by gnuplot next to the paper's targets. Bad input ends with a message naming the key and the value and
+// exit status 2, before anything is run or written; a case that cannot finish (no equilibrium within the
+// step limit, a sample that gives way, a blown-up state) is reported in its row and on the terminal, the
+// other cases still run, and the exit status is 3.
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/exec.hpp"
+#include "core/io/progress.hpp"
+#include "scenarios/patch/patch_input.hpp"
+#include "scenarios/patch/patch_report.hpp"
+
+namespace {
+
+using namespace debris;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+constexpr int kExitInput = 2;   // bad input
+constexpr int kExitFailed = 3;  // some case could not finish
+
+struct Options {
+  std::string input, output;
+  int threads = 0;
+};
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw input_error("input file", path, "no such file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string describe_case(const PatchCase& c) {
+  std::ostringstream os;
+  os << patch_test_name(c.test) << ", " << c.sample_label();
+  if (c.lattice) os << ", d0 = " << c.d0_over_dc << " d_c";
+  os << ", nu = " << c.material.poisson_ratio << ", s = " << c.material.scaling;
+  return os.str();
+}
+
+std::string result_line(const PatchCaseResult& r) {
+  std::ostringstream os;
+  os << std::setprecision(5);
+  if (!r.ok) return "  FAILED: " + r.error;
+  if (r.c.test == PatchTest::elastic) {
+    const ElasticResult& e = r.elastic;
+    os << "  C11 = " << e.c11 << ", C12 = " << e.c12 << ", C13 = " << e.c13 << "  ->  E = " << e.moduli.E << " ("
+       << std::showpos << 100 * (e.moduli.E / r.c.material.youngs_modulus - 1) << std::noshowpos
+       << "%), nu = " << e.moduli.nu << " (target " << r.c.material.poisson_ratio << ")\n"
+       << "  walls: eps_yy = " << e.eps_walls << " (bulk " << e.eps << "), E = " << e.moduli_walls.E
+       << ", nu = " << e.moduli_walls.nu << "; sigma_yy of the deformable part " << e.sigma_part.yy << " (applied "
+       << e.applied << ")\n"
+       << "  " << e.steps << " steps (window " << e.window << "), " << std::setprecision(3) << e.wall_seconds << " s";
+  } else {
+    const StrengthResult& s = r.strength;
+    os << "  strength = " << s.strength << " (target " << r.target << ", ratio " << s.strength / r.target
+       << ") at strain " << s.strain_at_peak << "; " << strength_outcome_name(s.outcome) << ", final stress "
+       << s.final_over_peak << " of the peak\n"
+       << "  " << s.steps << " steps, " << std::setprecision(3) << s.wall_seconds << " s";
+  }
+  return os.str();
+}
+
+int run(const Options& opt) {
+  const std::string text = read_text(opt.input);
+  PatchConfig cfg = read_patch_input_text(text, opt.input, fs::path(opt.input).parent_path().string());
+  if (!opt.output.empty()) cfg.output_directory = opt.output;
+  exec::set_threads(opt.threads > 0 ? opt.threads : cfg.threads);
+  std::cout << exec::startup_report() << std::endl;
+
+  // Every sample is built once before anything runs, so that a bad case stops the sweep before it starts.
+  std::vector<PatchCaseResult> results;
+  for (const PatchCase& c : cfg.cases) {
+    const PatchSample s = make_case_sample(c);
+    if (c.test == PatchTest::elastic) validate(cfg.elastic, s);
+    PatchCaseResult r;
+    r.c = c;
+    r.description = s.description;
+    r.particles = static_cast<long>(s.particles.size());
+    r.deformable = s.free_count;
+    r.d0 = s.d0;
+    r.size_over_d0 = (1.0 / s.d0) * s.box.length();
+    r.target = target_strength(c.material, c.test, s.d0);
+    results.push_back(r);
+  }
+  std::cout << cfg.cases.size() << " case(s)\n";
+
+  const fs::path dir = cfg.output_directory;
+  fs::create_directories(dir);
+  fs::create_directories(dir / "curves");
+  {
+    std::ofstream echo(dir / "input.yaml", std::ios::binary | std::ios::trunc);
+    echo << text;
+  }
+  PatchCasesCsv table((dir / "cases.csv").string());
+
+  const auto t0 = Clock::now();
+  int failed = 0;
+  for (PatchCaseResult& r : results) {
+    const PatchCase& c = r.c;
+    std::cout << "\ncase " << c.index << "/" << results.size() << ": " << describe_case(c) << "\n  " << r.description
+              << std::endl;
+    std::unique_ptr<Progress> progress;
+    const PatchProgress report = [&](long step, long limit, std::size_t n) {
+      if (!progress) progress = std::make_unique<Progress>(0, limit, std::cout, cfg.progress_seconds);
+      progress->update(step, n);
+    };
+    try {
+      const PatchSample s = make_case_sample(c);
+      if (c.test == PatchTest::elastic) {
+        r.elastic = run_elastic_test(s, c.material, cfg.elastic, report);
+      } else {
+        r.strength = run_strength_test(s, c.material, c.test, cfg.strength, report);
+        std::ostringstream name;
+        name << "curves/case_" << std::setw(3) << std::setfill('0') << c.index << "_" << patch_test_name(c.test)
+             << ".csv";
+        r.curve_file = name.str();
+        write_curve_csv((dir / r.curve_file).string(), r.strength);
+      }
+      r.ok = true;
+    } catch (const PatchRunError& e) {
+      r.error = e.what();
+      ++failed;
+    }
+    table.write(r);
+    std::cout << result_line(r) << std::endl;
+  }
+  const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+
+  std::cout << "\n" << (cfg.plots ? write_plots(dir.string(), results) : "plots: off (output.plots: false)") << "\n";
+  std::cout << results.size() << " case(s) in " << format_duration(wall) << " (" << std::setprecision(4) << wall
+            << " s); results in " << dir.string() << "/ (cases.csv, curves/, plots.gp, *.png)\n";
+  if (failed > 0) {
+    std::cerr << "debris_patch: " << failed << " case(s) could not finish:\n";
+    for (const PatchCaseResult& r : results)
+      if (!r.ok) std::cerr << "  case " << r.c.index << " (" << describe_case(r.c) << "): " << r.error << "\n";
+    return kExitFailed;
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "debris_patch: patch tests of the cohesive DEM (Pham-Ba & Molinari, section 3): elastic constants "
+      "and strengths of HCP lattices and amorphous samples"};
+  Options opt;
+  app.add_option("-i,--input", opt.input, "YAML input file")->required();
+  app.add_option("-o,--output", opt.output, "output directory (overrides output.directory)");
+  app.add_option("--threads", opt.threads, "number of host threads (overrides threads)")->check(CLI::NonNegativeNumber);
+  CLI11_PARSE(app, argc, argv);
+  try {
+    return run(opt);
+  } catch (const debris::InputError& e) {
+    std::cerr << e.what() << std::endl;
+    return kExitInput;
+  } catch (const std::exception& e) {
+    std::cerr << "debris_patch: error: " << e.what() << std::endl;
+    return 1;
+  }
+}

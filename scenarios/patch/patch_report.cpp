@@ -1,0 +1,357 @@
+#include "scenarios/patch/patch_report.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/io/text_format.hpp"
+#include "core/io/thermo_csv.hpp"
+
+namespace debris {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* const kColumns[] = {
+    "case", "test", "sample", "c_axis", "d0_over_dc", "d0", "nu_target", "s", "particles", "deformable", "Lx_over_d0",
+    "Ly_over_d0", "Lz_over_d0", "dt", "status", "steps", "wall_seconds",
+    // elastic (bulk measure, then the walls and whole deformable part)
+    "eps_yy", "sigma_xx", "sigma_yy", "sigma_zz", "C11", "C12", "C13", "E", "nu", "E_dev", "nu_dev", "nu_rel_dev",
+    "eps_yy_walls", "sigma_yy_part", "C11_walls", "C12_walls", "E_walls", "nu_walls",
+    // strength
+    "strength", "target_strength", "strength_over_target", "strain_at_peak", "outcome", "final_over_peak",
+    "curve_file"};
+
+// A CSV field: quoted when it holds a comma, a quote or a line break.
+std::string field(const std::string& s) {
+  if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+std::string num(double v) {
+  std::string s;
+  append_number(s, v);
+  return s;
+}
+
+std::string short_num(double v) {
+  std::ostringstream os;
+  os.precision(4);
+  os << v;
+  return os.str();
+}
+
+}  // namespace
+
+PatchCasesCsv::PatchCasesCsv(const std::string& path) {
+  out_.open(path, std::ios::binary | std::ios::trunc);
+  if (!out_)
+    throw input_error("output.directory", path, std::string("cannot open for writing: ") + std::strerror(errno));
+  std::string header;
+  for (const char* c : kColumns) {
+    if (!header.empty()) header += ',';
+    header += c;  // appended piecewise: GCC 12 warns falsely (-Wrestrict) on chains of std::string operator+
+  }
+  out_ << header << '\n' << std::flush;
+}
+
+void PatchCasesCsv::write(const PatchCaseResult& r) {
+  const PatchCase& c = r.c;
+  std::vector<std::string> f;
+  f.push_back(std::to_string(c.index));
+  f.push_back(patch_test_name(c.test));
+  f.push_back(field(c.lattice ? std::string("hcp") : c.data_file));
+  f.push_back(c.lattice ? std::string(1, "xyz"[c.hcp.c_axis]) : "");
+  f.push_back(num(r.d0 / c.material.critical_diameter()));
+  f.push_back(num(r.d0));
+  f.push_back(num(c.material.poisson_ratio));
+  f.push_back(num(c.material.scaling));
+  f.push_back(std::to_string(r.particles));
+  f.push_back(std::to_string(r.deformable));
+  f.push_back(num(r.size_over_d0.x));
+  f.push_back(num(r.size_over_d0.y));
+  f.push_back(num(r.size_over_d0.z));
+  const bool elastic = c.test == PatchTest::elastic;
+  f.push_back(r.ok ? num(elastic ? r.elastic.dt : r.strength.dt) : "");
+  f.push_back(field(r.ok ? std::string("ok") : "failed: " + r.error));
+  f.push_back(r.ok ? std::to_string(elastic ? r.elastic.steps : r.strength.steps) : "");
+  f.push_back(r.ok ? num(elastic ? r.elastic.wall_seconds : r.strength.wall_seconds) : "");
+  if (r.ok && elastic) {
+    const ElasticResult& e = r.elastic;
+    const double nu_t = c.material.poisson_ratio;
+    for (double v : {e.eps, e.sigma.xx, e.sigma.yy, e.sigma.zz, e.c11, e.c12, e.c13, e.moduli.E, e.moduli.nu,
+                     e.moduli.E / c.material.youngs_modulus - 1.0, e.moduli.nu - nu_t})
+      f.push_back(num(v));
+    f.push_back(nu_t != 0.0 ? num(e.moduli.nu / nu_t - 1.0) : "");
+    for (double v : {e.eps_walls, e.sigma_part.yy, e.c11_walls, e.c12_walls, e.moduli_walls.E, e.moduli_walls.nu})
+      f.push_back(num(v));
+  } else {
+    for (int k = 0; k < 18; ++k) f.push_back("");
+  }
+  if (r.ok && !elastic) {
+    const StrengthResult& s = r.strength;
+    f.push_back(num(s.strength));
+    f.push_back(num(r.target));
+    f.push_back(num(s.strength / r.target));
+    f.push_back(num(s.strain_at_peak));
+    f.push_back(field(strength_outcome_name(s.outcome)));
+    f.push_back(num(s.final_over_peak));
+    f.push_back(field(r.curve_file));
+  } else {
+    for (int k = 0; k < 7; ++k) f.push_back("");
+  }
+  std::string line;
+  for (const std::string& s : f) line += (line.empty() ? "" : ",") + s;
+  out_ << line << '\n' << std::flush;
+  if (!out_) throw input_error("output.directory", "cases.csv", "writing failed (disk full?)");
+}
+
+void write_curve_csv(const std::string& path, const StrengthResult& r) {
+  ThermoCsv csv(path, {"step", "strain", "eps_yy", "sigma_xx", "sigma_yy", "sigma_zz", "sigma_xy", "sigma_xz",
+                       "sigma_yz", "kinetic_energy"});
+  for (const StressStrainPoint& p : r.curve)
+    csv.write_row({static_cast<double>(p.step), p.strain, p.eps_yy, p.stress.xx, p.stress.yy, p.stress.zz, p.stress.xy,
+                   p.stress.xz, p.stress.yz, p.kinetic_energy});
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Plots.
+
+namespace {
+
+struct Series {
+  std::string title;
+  std::vector<std::pair<double, double>> xy;
+  std::string style;  // empty: the plot's default style
+};
+
+// gnuplot string literal (single quotes; a quote is doubled).
+std::string gp_string(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("''") : std::string(1, c);
+  return q + "'";
+}
+
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// Writes each series as a datablock $<prefix><k> and returns the plot clauses for them.
+std::string datablocks(std::ostream& gp, const std::string& prefix, const std::vector<Series>& series,
+                       const std::string& style) {
+  std::string clauses;
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    const std::string name = "$" + prefix + std::to_string(k);
+    gp << name << " << EOD\n";
+    for (const auto& [x, y] : series[k].xy) gp << num(x) << " " << num(y) << "\n";
+    gp << "EOD\n";
+    const std::string& st = series[k].style.empty() ? style : series[k].style;
+    clauses +=
+        (clauses.empty() ? "" : ", \\\n     ") + name + " using 1:2 " + st + " title " + gp_string(series[k].title);
+  }
+  return clauses;
+}
+
+std::string find_gnuplot() {
+  const char* path = std::getenv("PATH");
+  if (!path) return {};
+  std::stringstream ss(path);
+  std::string dir;
+  while (std::getline(ss, dir, ':')) {
+    if (dir.empty()) continue;
+    const fs::path p = fs::path(dir) / "gnuplot";
+    std::error_code ec;
+    if (fs::exists(p, ec) && !fs::is_directory(p, ec)) return p.string();
+  }
+  return {};
+}
+
+}  // namespace
+
+std::string write_plots(const std::string& dir, const std::vector<PatchCaseResult>& results) {
+  std::ostringstream gp;
+  const std::string terminal = "set terminal pngcairo size 1100,850 noenhanced font ',11'\n";
+  gp << "# debris_patch plots: run `gnuplot plots.gp` in this directory. Data are inline (from cases.csv).\n"
+     << terminal << "set key below font ',10'\nset grid\n";
+  // Eight colours that stay apart on white (Okabe-Ito, yellow left out), then repeated.
+  const char* colours[] = {"#0072b2", "#d55e00", "#009e73", "#cc79a7", "#e69f00", "#56b4e9", "#555555", "#8c510a"};
+  for (int k = 0; k < 8; ++k) gp << "set linetype " << k + 1 << " lc rgb '" << colours[k] << "' lw 2\n";
+  gp << "set linetype cycle 8\n";
+  std::vector<std::string> pngs;
+
+  // Elastic: E deviation and measured nu against the target nu, one series per sample, d0 and s.
+  std::map<std::string, Series> e_dev, nu_meas;
+  for (const PatchCaseResult& r : results) {
+    if (!r.ok || r.c.test != PatchTest::elastic) continue;
+    const std::string key = r.c.sample_label() + ", d0 = " + short_num(r.d0 / r.c.material.critical_diameter()) +
+                            " d_c, s = " + short_num(r.c.material.scaling);
+    e_dev[key].title = key;
+    nu_meas[key].title = key;
+    e_dev[key].xy.push_back(
+        {r.c.material.poisson_ratio, 100.0 * (r.elastic.moduli.E / r.c.material.youngs_modulus - 1.0)});
+    nu_meas[key].xy.push_back({r.c.material.poisson_ratio, r.elastic.moduli.nu});
+  }
+  if (!e_dev.empty()) {
+    std::vector<Series> a, b;
+    for (auto& [k, s] : e_dev) a.push_back(s);
+    for (auto& [k, s] : nu_meas) b.push_back(s);
+    gp << "\n# Fig A.4: measured E against the target nu (target: no deviation)\n"
+       << "set output 'elastic_E_deviation.png'\nunset logscale\n"
+       << "set title 'Elastic patch test: deviation of the measured E from the target (paper Fig A.4)'\n"
+       << "set xlabel 'target Poisson ratio nu'\nset ylabel '100 (E / E_target - 1)  [%]'\n";
+    const std::string ca = datablocks(gp, "edev", a, "with linespoints lw 2 pt 7");
+    gp << "plot 0 with lines lc 'black' dt 4 lw 2 title 'target (paper: deviation smallest at nu = 0, at most 12% at "
+          "nu = 1/4)', \\\n     "
+       << ca << "\n";
+    gp << "\n# Fig A.5: measured nu against the target nu\n"
+       << "set output 'elastic_nu.png'\n"
+       << "set title 'Elastic patch test: measured Poisson ratio (paper Fig A.5)'\n"
+       << "set xlabel 'target Poisson ratio nu'\nset ylabel 'measured nu = C12 / (C11 + C12)'\n";
+    const std::string cb = datablocks(gp, "nu", b, "with linespoints lw 2 pt 7");
+    gp << "plot x with lines lc 'black' dt 4 lw 2 title 'target (measured = target)', \\\n     " << cb << "\n";
+    pngs.push_back("elastic_E_deviation.png");
+    pngs.push_back("elastic_nu.png");
+  }
+
+  // Strengths against d0 / d_c, one series per sample, nu and s, with eq 20 for each s.
+  for (PatchTest t : {PatchTest::tension, PatchTest::shear}) {
+    std::map<std::string, Series> series;
+    std::map<double, double> targets;  // s -> sigma (plain strength), for the target curves
+    int no_peak = 0;
+    for (const PatchCaseResult& r : results) {
+      if (!r.ok || r.c.test != t) continue;
+      if (r.strength.outcome == StrengthOutcome::max_strain) {  // still rising: a lower bound, not a strength
+        ++no_peak;
+        continue;
+      }
+      const std::string key = r.c.sample_label() + ", nu = " + short_num(r.c.material.poisson_ratio) +
+                              ", s = " + short_num(r.c.material.scaling);
+      series[key].title = key;
+      series[key].xy.push_back({r.d0 / r.c.material.critical_diameter(), r.strength.strength});
+      targets[r.c.material.scaling] =
+          t == PatchTest::tension ? r.c.material.tensile_strength : r.c.material.shear_strength;
+    }
+    if (!series.empty()) {
+      std::vector<Series> v;
+      for (auto& [k, s] : series) v.push_back(s);
+      const std::string name = t == PatchTest::tension ? "tensile" : "shear";
+      const std::string png = name + "_strength.png";
+      gp << "\n# Fig " << (t == PatchTest::tension ? 5 : 6) << ": " << name << " strength against d0 / d_c\n"
+         << terminal << "set output '" << png << "'\nset logscale xy\n"
+         << "set title 'Strength patch test (" << patch_test_name(t) << "): measured and target strengths (paper Fig "
+         << (t == PatchTest::tension ? 5 : 6) << ")"
+         << (no_peak > 0 ? "; " + std::to_string(no_peak) + " case(s) that reached max_strain without a peak left out"
+                         : "")
+         << "'\n"
+         << "set xlabel 'd0 / d_c'\nset ylabel '"
+         << (t == PatchTest::tension ? "tensile strength sigma_mN" : "shear strength sigma_mT")
+         << "  (peak virial stress)'\n"
+         << "set samples 400\n";
+      std::string clauses;
+      int k = 0;
+      for (const auto& [s, sigma] : targets) {
+        const std::string f = "target_" + name + "_" + std::to_string(k++) + "(x)";
+        gp << f << " = x > 1 ? " << num(sigma) << " * x**(-" << num(s) << ") : " << num(sigma) << "\n";
+        const int dash = s == 0.0 ? 4 : 3;  // the paper: dash-dot for s = 0, dotted for s = 0.5
+        clauses += f + " with lines lc 'black' dt " + std::to_string(dash) + " lw 2 title " +
+                   gp_string("target, eq 20, s = " + short_num(s)) + ", \\\n     ";
+      }
+      const std::string data = datablocks(gp, name, v, "with linespoints lw 2 pt 7");
+      gp << "plot [0.4:120] " << clauses << data << "\n";
+      pngs.push_back(png);
+    }
+
+    // Stress-strain curves (Fig 4 b, c): one plot per sample and nu, colour by d0, dashes by s.
+    std::map<std::string, std::vector<const PatchCaseResult*>> groups;  // by file-name tag
+    std::map<std::string, std::string> group_titles;
+    for (const PatchCaseResult& r : results) {
+      if (!r.ok || r.c.test != t) continue;
+      std::string tag;  // "hcp_cy_nu0.15": letters, digits, '.', '-' and single '_'
+      for (char ch : r.c.sample_label() + "_nu" + short_num(r.c.material.poisson_ratio)) {
+        if (ch == '=') continue;
+        const bool keep = std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '-';
+        if (keep)
+          tag += ch;
+        else if (!tag.empty() && tag.back() != '_')
+          tag += '_';
+      }
+      groups[tag].push_back(&r);
+      group_titles[tag] = r.c.sample_label() + ", nu = " + short_num(r.c.material.poisson_ratio);
+    }
+    int plot = 0;
+    for (const auto& [tag, members] : groups) {
+      const std::string& group = group_titles[tag];
+      std::vector<double> sizes, scalings;
+      for (const PatchCaseResult* r : members) {
+        sizes.push_back(r->d0);
+        scalings.push_back(r->c.material.scaling);
+      }
+      for (std::vector<double>* v : {&sizes, &scalings}) {
+        std::sort(v->begin(), v->end());
+        v->erase(std::unique(v->begin(), v->end()), v->end());
+      }
+      auto rank = [](const std::vector<double>& v, double x) {
+        return 1 + static_cast<int>(std::lower_bound(v.begin(), v.end(), x) - v.begin());
+      };
+      std::vector<Series> curves;
+      for (const PatchCaseResult* r : members) {
+        Series s;
+        s.title = "case " + std::to_string(r->c.index) +
+                  ": d0 = " + short_num(r->d0 / r->c.material.critical_diameter()) +
+                  " d_c, s = " + short_num(r->c.material.scaling);
+        s.style = "with lines lw 1.5 lt " + std::to_string(rank(sizes, r->d0)) + " dt " +
+                  std::to_string(rank(scalings, r->c.material.scaling));
+        for (const StressStrainPoint& p : r->strength.curve)
+          s.xy.push_back({p.strain, t == PatchTest::tension ? p.stress.yy : p.stress.xy});
+        curves.push_back(std::move(s));
+      }
+      const std::string cpng = "stress_strain_" + std::string(patch_test_name(t)) + "_" + tag + ".png";
+      gp << "\n# Fig 4 " << (t == PatchTest::tension ? "(b)" : "(c)") << ": stress-strain curves, " << group << "\n"
+         << "set terminal pngcairo size 1100," << 700 + 20 * ((curves.size() + 1) / 2)
+         << " noenhanced font ',11'\nset output '" << cpng << "'\nunset logscale\n"
+         << "set title "
+         << gp_string("Strength patch test (" + std::string(patch_test_name(t)) + "), " + group +
+                      ": stress of the deformable part")
+         << "\nset xlabel '" << (t == PatchTest::tension ? "strain eps_yy" : "shear strain gamma_xy")
+         << " (wall displacement / height)'\nset ylabel '" << (t == PatchTest::tension ? "sigma_yy" : "sigma_xy")
+         << "'\n";
+      const std::string curve_clauses = datablocks(
+          gp, std::string(patch_test_name(t)) + "curve" + std::to_string(plot++) + "_", curves, "with lines lw 1.5");
+      gp << "plot " << curve_clauses << "\n";
+      pngs.push_back(cpng);
+    }
+  }
+  if (pngs.empty()) return "plots: no finished case to plot";
+
+  const fs::path script = fs::path(dir) / "plots.gp";
+  {
+    std::ofstream out(script, std::ios::binary | std::ios::trunc);
+    out << gp.str();
+    if (!out) throw input_error("output.directory", script.string(), "cannot write the plot script");
+  }
+  const std::string gnuplot = find_gnuplot();
+  if (gnuplot.empty())
+    return "plots skipped: gnuplot not found on the PATH (Debian: apt install gnuplot-nox); run `gnuplot plots.gp` "
+           "in " +
+           dir + " later";
+  const std::string cmd = "cd " + shell_quote(dir) + " && " + shell_quote(gnuplot) + " plots.gp > plots.log 2>&1";
+  const int rc = std::system(cmd.c_str());
+  if (rc != 0) return "plots failed: gnuplot exited with status " + std::to_string(rc) + " (see " + dir + "/plots.log)";
+  std::string list;
+  for (const std::string& p : pngs) list += (list.empty() ? "" : ", ") + p;
+  return "plots drawn with gnuplot: " + list;
+}
+
+}  // namespace debris
