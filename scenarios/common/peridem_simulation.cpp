@@ -1,6 +1,7 @@
 #include "scenarios/common/peridem_simulation.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -14,6 +15,9 @@
 namespace debris {
 
 namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 bool is_particle(const PdGrains& g, int k) { return g.kind[k] == static_cast<int>(PdGrainKind::particle); }
 
@@ -101,7 +105,11 @@ double pd_mesh_size(const PdNodes& nodes, const PdGrains& grains) {
 
 PeridemSimulation::PeridemSimulation(PdNodes nodes, PdGrains grains, std::vector<PdMaterial> materials,
                                      std::vector<PdContactSettings> contact, PeridemSettings settings)
-    : nodes_(std::move(nodes)), grains_(std::move(grains)), materials_(std::move(materials)), settings_(settings) {
+    : nodes_(std::move(nodes)),
+      grains_(std::move(grains)),
+      materials_(std::move(materials)),
+      settings_(settings),
+      contact_settings_(contact) {
   if (materials_.empty()) throw input_error("materials", "(none)", "at least one material is needed");
   if (nodes_.size() == 0) throw input_error("grains", "(none)", "no nodes to simulate");
   if (!(settings_.time_step > 0) || !std::isfinite(settings_.time_step))
@@ -161,33 +169,77 @@ PeridemSimulation::PeridemSimulation(PdNodes nodes, PdGrains grains, std::vector
                           " s of eq 32 for these bonds and contacts (set run.allow_unstable_time_step: true to insist)");
 
   skin_ = settings_.skin > 0 ? settings_.skin : table_.max_contact_radius();
+  for (std::size_t g = 0; g < grains_.size(); ++g)
+    grain_names_.push_back((is_particle(grains_, static_cast<int>(g)) ? "grain" : "wall") + std::to_string(g));
   rebuild_contacts();
   compute_forces();
 }
 
 void PeridemSimulation::rebuild_contacts() {
+  const auto t0 = Clock::now();
   list_.build(nodes_, grains_, bonds_, table_.max_contact_radius(), skin_);
+  list_x_ = nodes_.x;
+  list_y_ = nodes_.y;
+  list_z_ = nodes_.z;
   ++rebuilds_;
+  ++times_.rebuilds;
+  times_.neighbours += seconds_since(t0);
 }
 
 void PeridemSimulation::compute_forces() {
+  auto t0 = Clock::now();
   pd_zero_forces(nodes_);
   pd_gravity_pass(nodes_, grains_, settings_.gravity);
+  times_.other += seconds_since(t0);
+  t0 = Clock::now();
   const long broke = pd_bond_step(lps_, grains_, bonds_, nodes_);
+  times_.bonds += seconds_since(t0);
   if (broke > 0) {
     broken_total_ += broke;
     list_.request_rebuild();  // the two nodes of a broken bond may now touch (self-contact)
   }
   if (list_.needs_rebuild(nodes_)) rebuild_contacts();
+  t0 = Clock::now();
   pd_contact_pass(table_, settings_.damping, nodes_, grains_, list_, work_, settings_.time_step);
+  times_.contact += seconds_since(t0);
 }
 
 void PeridemSimulation::step() {
+  const auto t0 = Clock::now();
   pd_integrate(nodes_, grains_, settings_.time_step, step_ == 0);
+  times_.integration += seconds_since(t0);
   ++step_;
   time_ += settings_.time_step;
   if (list_.needs_rebuild(nodes_)) rebuild_contacts();
   compute_forces();
+}
+
+void PeridemSimulation::set_grain_names(std::vector<std::string> names) {
+  if (names.size() != grains_.size())
+    throw input_error("grain names", std::to_string(names.size()),
+                      "need one per grain and wall, " + std::to_string(grains_.size()));
+  grain_names_ = std::move(names);
+}
+
+void PeridemSimulation::refresh_damage(double* broken_fraction) {
+  pd_damage_pass(lps_, grains_, bonds_, nodes_, broken_fraction);
+}
+
+std::string PeridemSimulation::explosion_check() const {
+  const double reach = table_.max_contact_radius();
+  const double dt = settings_.time_step;
+  for (std::size_t i = 0; i < nodes_.size(); ++i) {
+    if (!is_particle(grains_, nodes_.grain[i])) continue;
+    const double v = std::sqrt(nodes_.vx[i] * nodes_.vx[i] + nodes_.vy[i] * nodes_.vy[i] + nodes_.vz[i] * nodes_.vz[i]);
+    if (v * dt > reach) {
+      std::ostringstream os;
+      os << "step " << step_ << ": node " << nodes_.id[i] << " (grain " << nodes_.grain[i] << ") moves " << v * dt
+         << " m in one step at speed " << v << " m/s, more than the contact radius " << reach
+         << " m: the run has blown up (is the time step above the stable " << stable_dt_ << " s?)";
+      return os.str();
+    }
+  }
+  return {};
 }
 
 void PeridemSimulation::run(long steps) {

@@ -30,6 +30,16 @@ struct PeridemSettings {
   double skin = 0;  // Verlet skin of the contact list; 0 = the contact radius R_c
 };
 
+/// Wall-clock seconds spent in each pass since the start (or the restart).
+struct PeridemPassTimes {
+  double integration = 0;  // eq 32
+  double neighbours = 0;   // contact list rebuilds
+  double bonds = 0;        // break, dilatation, bond force
+  double contact = 0;      // contact forces and damping
+  double other = 0;        // zeroing forces, gravity
+  long rebuilds = 0;       // contact list rebuilds in that time
+};
+
 /// Sums over the system at one instant.
 struct PeridemDiagnostics {
   double kinetic_energy = 0;  // 1/2 m v^2 over particle nodes (v half a step behind x)
@@ -90,7 +100,32 @@ class PeridemSimulation {
   /// One paragraph: nodes, grains, bonds, h, R_c, K_n, dt against the stable step.
   std::string summary() const;
 
+  /// Contact settings as given to the constructor (one for all pairs, or one per ordered pair).
+  const std::vector<PdContactSettings>& contact_settings() const { return contact_settings_; }
+  /// Names of the grains and walls (output columns); "grain<k>" / "wall<k>" unless set.
+  const std::vector<std::string>& grain_names() const { return grain_names_; }
+  /// One name per grain; InputError if the count differs.
+  void set_grain_names(std::vector<std::string> names);
+  /// Damage Z of eq 14 into nodes().damage for the current positions (diagnostics() does this too), and
+  /// optionally each node's fraction of broken bonds into `broken_fraction` (nodes().size() values).
+  void refresh_damage(double* broken_fraction = nullptr);
+  /// Empty unless some particle node moves farther than the contact radius R_c in one step (|v| dt > R_c):
+  /// contacts would be stepped over, so the run has blown up (or its time step is far too large for the
+  /// speeds). Names the step and the node.
+  std::string explosion_check() const;
+  /// Time per pass since construction or restart.
+  const PeridemPassTimes& times() const { return times_; }
+
+  /// Checkpoint (HDF5, scenarios/common/peridem_checkpoint.cpp): everything needed to continue bit for bit on
+  /// the host, plus `input_echo` (the input file's text). Written to path.tmp, then renamed over `path`.
+  void write_checkpoint(const std::string& path, const std::string& input_echo) const;
+  /// The simulation as it was when the checkpoint was written; `input_echo` receives the input's text.
+  /// InputError ("restart") for a missing file or one of another format version.
+  static PeridemSimulation from_checkpoint(const std::string& path, std::string* input_echo = nullptr);
+
  private:
+  struct Restored {};
+  explicit PeridemSimulation(Restored) {}
   void compute_forces();
   void rebuild_contacts();
 
@@ -106,6 +141,12 @@ class PeridemSimulation {
   double mesh_size_ = 0, stable_dt_ = 0, skin_ = 0;
   long step_ = 0, broken_total_ = 0, rebuilds_ = 0;
   double time_ = 0;
+  // For checkpoints: the constructor's contact settings, and the node positions at the last contact list
+  // build (a restart rebuilds the list from them, so its rows, and the order of every force sum, match).
+  std::vector<PdContactSettings> contact_settings_;
+  std::vector<double> list_x_, list_y_, list_z_;
+  std::vector<std::string> grain_names_;
+  PeridemPassTimes times_;
 };
 
 /// h of eq 35 per grain, minimised: the smallest reference distance between two nodes of one grain (the
