@@ -147,21 +147,33 @@ PeridemSimulation::PeridemSimulation(PdNodes nodes, PdGrains grains, std::vector
   pd_weighted_volume_pass(lps_, grains_, bonds_, nodes_);
 
   // Stability of eq 32: omega_max^2 of the linearised bonds (power iteration) plus that of one contact
-  // spring K_n V_i V_j between node i and the largest node j, k (1/m_i + 1/m_j) (eq 17 linearised). Both
-  // are per-node stiffnesses, so the sum bounds the combination from above (Weyl), up to the power
-  // iteration's estimate, which gets a 10% margin.
+  // spring k = K_n V_i V_j (eq 17 linearised) between the largest nodes of two bodies that can touch:
+  // k (1/m_i + 1/m_j) = K_n (V_j / rho_i + V_i / rho_j) between particle nodes, K_n V_j / rho_i against a
+  // wall node (a wall is rigid: infinite mass). Walls never touch walls. Both are per-node stiffnesses, so
+  // the sum bounds the combination from above (Weyl), up to the power iteration's estimate, which gets a
+  // 10% margin.
   int dimension = 2;
   for (const PdMaterial& m : materials_) dimension = std::max(dimension, m.dimension);
   const double lambda_bonds =
       1.10 * bond_lambda_max(nodes_, grains_, bonds_, lps_, mesh_size_, dimension);
-  double vmax = 0;
-  for (std::size_t i = 0; i < nodes_.size(); ++i) vmax = std::max(vmax, nodes_.volume[i]);
+  const std::size_t nm = materials_.size();
+  std::vector<double> vmax_particle(nm, 0.0), vmax_wall(nm, 0.0);
+  for (std::size_t g = 0; g < grains_.size(); ++g) {
+    const std::size_t mat = static_cast<std::size_t>(grains_.material[g]);
+    double& v = is_particle(grains_, static_cast<int>(g)) ? vmax_particle[mat] : vmax_wall[mat];
+    for (int i = grains_.node_begin[g]; i < grains_.node_end[g]; ++i) v = std::max(v, nodes_.volume[i]);
+  }
   double lambda_contact = 0.0;
-  for (std::size_t a = 0; a < materials_.size(); ++a)
-    for (std::size_t b = 0; b < materials_.size(); ++b) {
-      const PdContactParams& p = table_.pair(static_cast<int>(a), static_cast<int>(b));
-      lambda_contact = std::max(lambda_contact, p.k_n * vmax * (1.0 / materials_[a].density + 1.0 / materials_[b].density));
+  for (std::size_t a = 0; a < nm; ++a) {
+    if (vmax_particle[a] == 0.0) continue;  // no particle of material a
+    for (std::size_t b = 0; b < nm; ++b) {
+      const double kn = table_.pair(static_cast<int>(a), static_cast<int>(b)).k_n;
+      if (vmax_particle[b] > 0.0)
+        lambda_contact = std::max(lambda_contact, kn * (vmax_particle[b] / materials_[a].density +
+                                                        vmax_particle[a] / materials_[b].density));
+      if (vmax_wall[b] > 0.0) lambda_contact = std::max(lambda_contact, kn * vmax_wall[b] / materials_[a].density);
     }
+  }
   stable_dt_ = 2.0 / std::sqrt(lambda_bonds + lambda_contact);
   if (settings_.time_step > stable_dt_ && !settings_.allow_unstable_time_step)
     throw input_error("run.time_step", format_value(settings_.time_step),
