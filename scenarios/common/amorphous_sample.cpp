@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "core/io/hdf5_file.hpp"
+#include "core/io/input.hpp"
 #include "core/io/lammps_data.hpp"
 #include "core/truncated_lognormal.hpp"
 #include "kernels/integrate.hpp"
@@ -193,6 +194,56 @@ InsertedSpheres insert_random_spheres(const AmorphousSpec& spec) {
   out.particles.set_mass_from_density(spec.material.density);
   out.volume_fraction = volume / out.box.volume();
   return out;
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Input keys.
+
+void read_amorphous_sample_keys(const InputNode& sample, AmorphousSpec& s) {
+  s.d_s = sample.quantity("d_s", units::dimensionless, s.d_s);
+  s.d_l = sample.quantity("d_l", units::dimensionless, s.d_l);
+  s.d_l_fixed = sample.quantity("d_l_fixed", units::dimensionless, s.d_l_fixed);
+  if (sample.has("d_l") && sample.has("d_l_fixed"))
+    throw input_error("sample.d_l_fixed", format_value(s.d_l_fixed),
+                      "give one of d_l (units of d0) or d_l_fixed (units of d_c)");
+  s.length = sample.quantity("length", units::dimensionless, s.length);
+  s.width = sample.quantity("width", units::dimensionless, s.width);
+  s.volume_fraction = sample.quantity("volume_fraction", units::dimensionless, s.volume_fraction);
+  const long seed = sample.integer("seed", static_cast<long>(s.seed));
+  if (seed < 0) throw input_error("sample.seed", std::to_string(seed), "must be >= 0");
+  s.seed = static_cast<std::uint64_t>(seed);
+}
+
+void read_amorphous_relaxation_keys(const InputNode& r, AmorphousSpec& s) {
+  s.time_step_fraction = r.quantity("time_step_fraction", units::dimensionless, s.time_step_fraction);
+  if (r.has("phase1")) {
+    const InputNode p1 = r.child("phase1");
+    s.phase1_steps = p1.integer("steps", s.phase1_steps);
+    s.phase1_damping = p1.quantity("damping", units::dimensionless, s.phase1_damping);
+  }
+  if (r.has("phase2")) {
+    const InputNode p2 = r.child("phase2");
+    s.phase2_damping = p2.quantity("damping", units::dimensionless, s.phase2_damping);
+    s.stress_threshold = p2.quantity("stress_threshold", units::dimensionless, s.stress_threshold);
+    s.include_shear = p2.boolean("include_shear", s.include_shear);
+    s.phase2_max_steps = p2.integer("max_steps", s.phase2_max_steps);
+    s.check_every = p2.integer("check_every", s.check_every);
+    s.box_relaxation_time = p2.quantity("box_relaxation_time", units::dimensionless, s.box_relaxation_time);
+    s.max_box_strain = p2.quantity("max_box_strain", units::dimensionless, s.max_box_strain);
+  }
+}
+
+std::string amorphous_spec_key(const AmorphousSpec& s) {
+  std::ostringstream os;
+  os.precision(17);
+  const CohesiveMaterial& m = s.material;
+  os << "material " << m.youngs_modulus << " " << m.poisson_ratio << " " << m.tensile_strength << " "
+     << m.shear_strength << " " << m.surface_energy << " " << m.restitution << " " << m.density << " " << m.scaling
+     << "\nsample " << s.d0 << " " << s.d_s << " " << s.d_l << " " << s.d_l_fixed << " " << s.length << " " << s.width
+     << " " << s.volume_fraction << " " << s.seed << "\nrelaxation " << s.time_step_fraction << " " << s.phase1_steps
+     << " " << s.phase1_damping << " " << s.phase2_damping << " " << s.stress_threshold << " " << s.include_shear << " "
+     << s.phase2_max_steps << " " << s.check_every << " " << s.box_relaxation_time << " " << s.max_box_strain << "\n";
+  return os.str();
 }
 
 // ---------------------------------------------------------------------------------------------------------

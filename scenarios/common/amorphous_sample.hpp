@@ -58,6 +58,7 @@
 namespace debris {
 
 class DemSimulation;
+class InputNode;
 
 struct AmorphousSpec {
   CohesiveMaterial material = table4_material();
@@ -112,6 +113,18 @@ struct InsertedSpheres {
   double volume_fraction = 0;  // sum of sphere volumes / box volume
 };
 InsertedSpheres insert_random_spheres(const AmorphousSpec& spec);
+
+/// Reads the sample keys the input files share (debris_amorphous, and debris_patch's `kind: amorphous`):
+/// d_s, d_l, d_l_fixed, length, width, volume_fraction, seed of `sample` (not d0, which may be a sweep),
+/// into `spec`, keeping its values for absent keys. InputError for d_l given together with d_l_fixed.
+void read_amorphous_sample_keys(const InputNode& sample, AmorphousSpec& spec);
+/// Reads the `relaxation` section (time_step_fraction, phase1.{steps, damping}, phase2.{damping,
+/// stress_threshold, include_shear, max_steps, check_every, box_relaxation_time, max_box_strain}).
+void read_amorphous_relaxation_keys(const InputNode& relaxation, AmorphousSpec& spec);
+
+/// Every value the recipe depends on, as text (doubles to 17 digits): two specs with the same key make the
+/// same sample bit for bit on the same build, so the key can tell a cached sample file from a stale one.
+std::string amorphous_spec_key(const AmorphousSpec& spec);
 
 /// One progress report (the thermo-like line of debris_amorphous).
 struct AmorphousProgress {

@@ -139,6 +139,7 @@ PatchSample make_hcp_sample(const HcpSampleSpec& spec, const CohesiveMaterial& m
   s.box = Box(built.box.lo(), built.box.hi(), {true, false, true});
   s.particles = std::move(built.particles);
   s.volume_per_particle = built.box.volume() / static_cast<double>(s.particles.size());  // a^3 / sqrt 2
+  s.volume_fraction = std::numbers::pi / (3.0 * std::numbers::sqrt2);
   assign_walls(s, spec.wall_thickness * d0, "sample.wall_thickness");
   const Vec3 len = s.box.length();
   std::ostringstream d;
@@ -184,6 +185,9 @@ PatchSample make_walled_sample(const Box& box, Particles particles, double wall_
   PatchSample s;
   s.d0 = d_sum / static_cast<double>(particles.size());
   s.volume_per_particle = box.volume() / static_cast<double>(particles.size());
+  double solid = 0;
+  for (double r : particles.radius) solid += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  s.volume_fraction = solid / box.volume();
   s.box = Box(box.lo(), box.hi(), {true, false, true});
   for (int& iy : particles.iy) iy = 0;
   s.particles = std::move(particles);
@@ -196,6 +200,10 @@ PatchSample make_walled_sample(const Box& box, Particles particles, double wall_
     << fmt(wall_thickness) << " mean diameters";
   s.description = d.str();
   return s;
+}
+
+double patch_overlap_limit(double setting, double initial_overlap_over_r_min, double allowance) {
+  return setting > 0 ? setting : std::max(0.0, initial_overlap_over_r_min) + allowance;
 }
 
 IsotropicModuli isotropic_from_stiffness(double c11, double c12) {
@@ -237,14 +245,19 @@ double free_kinetic_energy(const Particles& p) {
   return ke;
 }
 
-// The engine's overlap limit is half the smaller radius, which no loaded calibrated solid reaches. A
+// The engine's overlap limit is half the smaller radius, which no loaded calibrated lattice reaches. A
 // sample that breaks in tension releases its elastic energy at once, though, and the halves snap back
 // into each other: at nu = 1/4 and d0 = 0.67 d_c an HCP sample reached overlaps of 0.53 r that way (the
 // kinetic energy of its deformable part went from 3.5 to 2.2e6 within 100 steps of the fracture). Strength
-// tests therefore only stop at a whole radius, where one centre would reach the other sphere's surface.
+// tests therefore only stop at a whole radius (kOverlapAllowanceStrength) beyond the initial overlap.
 void check_health(const DemSimulation& sim, const char* test, double overlap_limit) {
   const std::string problem = sim.health_check(overlap_limit);
   if (!problem.empty()) throw PatchRunError(std::string(test) + " test stopped: " + problem);
+}
+
+double initial_overlap_over_r_min(const DemSimulation& sim) {
+  const std::vector<double>& r = sim.particles().radius;
+  return sim.diagnostics().max_overlap / *std::min_element(r.begin(), r.end());
 }
 
 void require_positive(double v, const char* key) {
@@ -283,6 +296,10 @@ void validate(const ElasticSettings& es) {
   if (es.max_steps < 1) throw input_error("elastic.max_steps", std::to_string(es.max_steps), "must be >= 1");
   require_positive(es.max_strain, "elastic.max_strain");
   if (!(es.interior_margin >= 0)) throw input_error("elastic.interior_margin", fmt(es.interior_margin), "must be >= 0");
+  if (!(std::isfinite(es.overlap_limit) && es.overlap_limit >= 0))
+    throw input_error("elastic.overlap_limit", fmt(es.overlap_limit),
+                      "must be >= 0 (in smallest radii; 0 or auto: the initial deepest overlap + " +
+                          fmt(kOverlapAllowanceElastic) + ")");
 }
 
 void validate(const ElasticSettings& es, const PatchSample& s) {
@@ -305,6 +322,8 @@ ElasticResult run_elastic_test(const PatchSample& s, const CohesiveMaterial& m, 
 
   ElasticResult r;
   r.applied = -es.stress;
+  r.initial_overlap = initial_overlap_over_r_min(sim);
+  r.overlap_limit = patch_overlap_limit(es.overlap_limit, r.initial_overlap, kOverlapAllowanceElastic);
   const double h_over_d0 = s.strain_height / s.d0;
   const double tau =
       2.0 * es.damping * h_over_d0 * h_over_d0 / (std::numbers::pi * std::numbers::pi * es.time_step_fraction);
@@ -345,10 +364,14 @@ ElasticResult run_elastic_test(const PatchSample& s, const CohesiveMaterial& m, 
     const StressTensor bulk = sim.virial_stress(bulk_mask.data(), n * v_p * (1.0 + eps));
     const StressTensor part =
         sim.virial_stress(part_mask.data(), static_cast<double>(s.free_count) * v_p * (1.0 + eps_w));
+    if (samples == 0) {  // before the load has moved anything: the sample's own stress
+      r.sigma0 = bulk;
+      r.sigma_part0 = part;
+    }
     const Sample cur{sim.step_count(), {eps_w, eps, bulk.xx, bulk.yy, bulk.zz, part.yy}};
     recent.push_back(cur);
     while (recent.front().step < cur.step - window) recent.pop_front();
-    if (++samples % 10 == 0) check_health(sim, "elastic", 0.5);
+    if (++samples % 10 == 0) check_health(sim, "elastic", r.overlap_limit);
     if (!(std::abs(eps_w) <= es.max_strain))
       throw PatchRunError("elastic test: the sample gave way under the stress " + fmt(es.stress) + ": |eps_yy| = " +
                           fmt(std::abs(eps_w)) + " exceeds elastic.max_strain = " + fmt(es.max_strain) + " at step " +
@@ -390,15 +413,15 @@ ElasticResult run_elastic_test(const PatchSample& s, const CohesiveMaterial& m, 
     for (long k = 0; k < es.sample_every; ++k) sim.step();
     if (progress) progress(sim.step_count(), es.max_steps, sim.particles().size());
   }
-  check_health(sim, "elastic", 0.5);
+  check_health(sim, "elastic", r.overlap_limit);
 
   r.dt = sim.dt();
-  r.c11 = r.sigma.yy / r.eps;
-  r.c12 = r.sigma.xx / r.eps;
-  r.c13 = r.sigma.zz / r.eps;
+  r.c11 = (r.sigma.yy - r.sigma0.yy) / r.eps;
+  r.c12 = (r.sigma.xx - r.sigma0.xx) / r.eps;
+  r.c13 = (r.sigma.zz - r.sigma0.zz) / r.eps;
   r.moduli = isotropic_from_stiffness(r.c11, r.c12);
-  r.c11_walls = r.sigma_part.yy / r.eps_walls;
-  r.c12_walls = r.sigma_part.xx / r.eps_walls;
+  r.c11_walls = (r.sigma_part.yy - r.sigma_part0.yy) / r.eps_walls;
+  r.c12_walls = (r.sigma_part.xx - r.sigma_part0.xx) / r.eps_walls;
   r.moduli_walls = isotropic_from_stiffness(r.c11_walls, r.c12_walls);
   r.steps = sim.step_count();
   r.wall_seconds = seconds_since(t0);
@@ -417,6 +440,10 @@ void validate(const StrengthSettings& ss) {
   require_positive(ss.max_strain, "strength.max_strain");
   if (!(std::isfinite(ss.shear_normal_stress) && ss.shear_normal_stress >= 0))
     throw input_error("strength.shear_normal_stress", fmt(ss.shear_normal_stress), "must be >= 0 (compressive)");
+  if (!(std::isfinite(ss.overlap_limit) && ss.overlap_limit >= 0))
+    throw input_error("strength.overlap_limit", fmt(ss.overlap_limit),
+                      "must be >= 0 (in smallest radii; 0 or auto: the initial deepest overlap + " +
+                          fmt(kOverlapAllowanceStrength) + ")");
 }
 
 StrengthResult run_strength_test(const PatchSample& s, const CohesiveMaterial& m, PatchTest test,
@@ -448,6 +475,8 @@ StrengthResult run_strength_test(const PatchSample& s, const CohesiveMaterial& m
 
   StrengthResult r;
   r.strength = -std::numeric_limits<double>::infinity();
+  r.initial_overlap = initial_overlap_over_r_min(sim);
+  r.overlap_limit = patch_overlap_limit(ss.overlap_limit, r.initial_overlap, kOverlapAllowanceStrength);
   std::vector<int> mask;
   double below_since = -1;  // strain at which the stress last dropped below fall_fraction * peak, or -1
   long samples = 0;
@@ -465,7 +494,7 @@ StrengthResult run_strength_test(const PatchSample& s, const CohesiveMaterial& m
       r.strength = value;
       r.strain_at_peak = strain;
     }
-    if (++samples % 10 == 0) check_health(sim, name.c_str(), 1.0);
+    if (++samples % 10 == 0) check_health(sim, name.c_str(), r.overlap_limit);
     if (r.strength > 0 && value < ss.fall_fraction * r.strength) {
       if (below_since < 0) below_since = strain;
       if (strain - below_since >= ss.fall_strain) r.outcome = StrengthOutcome::broke;

@@ -51,6 +51,7 @@ struct PatchSample {
   double inner_bottom = 0;          // highest bottom-wall centre (reference state)
   double inner_top = 0;             // lowest top-wall centre
   long free_count = 0;              // particles of the deformable part
+  double volume_fraction = 0;       // sum of sphere volumes / box volume of the periodic sample it came from
   bool masses_from_density = true;  // false: keep the given masses (a relaxed sample rescaled to the density)
   std::string description;          // what it is, in words (orientation, size, where it came from)
 };
@@ -120,7 +121,23 @@ struct ElasticSettings {
   long max_steps = 200000;       // PatchRunError naming "elastic.max_steps" if the rule is not met by then
   double max_strain = 0.05;      // PatchRunError when |eps_yy| exceeds it: the sample gave way
   double interior_margin = 1.5;  // / d0: free particles this close to a wall are left out of the fit
+  // The health check stops the run when an overlap exceeds overlap_limit times the smallest radius of the
+  // sample. 0 (automatic): the deepest overlap the sample starts with plus kOverlapAllowanceElastic (see
+  // patch_overlap_limit).
+  double overlap_limit = 0;
 };
+
+/// How much deeper than at the start an overlap may become (in smallest radii) before the health check of
+/// a patch test calls the run exploding, when the overlap limit is automatic. A lattice starts with none,
+/// so its limits are these: half a radius, the engine's default (elastic), and a whole radius (strength
+/// tests, see check_health in patch_test.cpp). A relaxed amorphous sample starts pre-stressed with overlaps
+/// up to 1.2 smallest radii (scenarios/patch/RESULTS.md), which are its equilibrium, not an explosion.
+inline constexpr double kOverlapAllowanceElastic = 0.5;
+inline constexpr double kOverlapAllowanceStrength = 1.0;
+
+/// The overlap limit (in smallest radii) a test uses: `setting` when > 0, else the sample's deepest initial
+/// overlap over its smallest radius plus `allowance`.
+double patch_overlap_limit(double setting, double initial_overlap_over_r_min, double allowance);
 
 struct ElasticResult {
   double applied = 0;  // sigma_yy the wall imposes (negative: compression)
@@ -139,7 +156,12 @@ struct ElasticResult {
   StressTensor sigma_part;
   double c11_walls = 0, c12_walls = 0;
   IsotropicModuli moduli_walls{};
+  // The stresses of the same particle sets before the load (the frozen-in stress of a relaxed amorphous
+  // sample; zero for a lattice). The moduli use the stress changes sigma - sigma0.
+  StressTensor sigma0, sigma_part0;
   long interior_count = 0;
+  double initial_overlap = 0;  // deepest overlap at the start, over the smallest radius
+  double overlap_limit = 0;    // the health check's limit used, in smallest radii
   double dt = 0;
   long steps = 0, window = 0;
   double wall_seconds = 0;
@@ -171,6 +193,8 @@ struct StrengthSettings {
   // rate while free along y under a constant compressive normal stress (0: free to open or close).
   bool shear_fixed_height = true;
   double shear_normal_stress = 0;
+  // Health check limit in smallest radii; 0: the sample's deepest initial overlap + kOverlapAllowanceStrength.
+  double overlap_limit = 0;
 };
 
 /// How a strength test ended: broke (stress fell below fall_fraction of the peak and stayed there), peak
@@ -193,6 +217,8 @@ struct StrengthResult {
   StrengthOutcome outcome = StrengthOutcome::max_strain;
   double final_over_peak = 0;  // stress at the stop / peak
   std::vector<StressStrainPoint> curve;
+  double initial_overlap = 0;  // deepest overlap at the start, over the smallest radius
+  double overlap_limit = 0;    // the health check's limit used, in smallest radii
   double dt = 0;
   long steps = 0;
   double wall_seconds = 0;

@@ -18,6 +18,7 @@
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/io/progress.hpp"
+#include "scenarios/patch/amorphous_cache.hpp"
 #include "scenarios/patch/patch_input.hpp"
 #include "scenarios/patch/patch_report.hpp"
 
@@ -46,7 +47,7 @@ std::string read_text(const std::string& path) {
 std::string describe_case(const PatchCase& c) {
   std::ostringstream os;
   os << patch_test_name(c.test) << ", " << c.sample_label();
-  if (c.lattice) os << ", d0 = " << c.d0_over_dc << " d_c";
+  if (c.lattice || c.amorphous) os << ", d0 = " << c.d0_over_dc << " d_c";
   os << ", nu = " << c.material.poisson_ratio << ", s = " << c.material.scaling;
   return os.str();
 }
@@ -64,6 +65,10 @@ std::string result_line(const PatchCaseResult& r) {
        << ", nu = " << e.moduli_walls.nu << "; sigma_yy of the deformable part " << e.sigma_part.yy << " (applied "
        << e.applied << ")\n"
        << "  " << e.steps << " steps (window " << e.window << "), " << std::setprecision(3) << e.wall_seconds << " s";
+    if (r.c.amorphous)
+      os << "\n  initial stress of the bulk (subtracted): [" << e.sigma0.xx << ", " << e.sigma0.yy << ", "
+         << e.sigma0.zz << "]; deepest initial overlap " << e.initial_overlap << " r_min, health-check limit "
+         << e.overlap_limit << " r_min";
   } else {
     const StrengthResult& s = r.strength;
     os << "  strength = " << s.strength << " (target " << r.target << ", ratio " << s.strength / r.target
@@ -81,19 +86,30 @@ int run(const Options& opt) {
   exec::set_threads(opt.threads > 0 ? opt.threads : cfg.threads);
   std::cout << exec::startup_report() << std::endl;
 
-  // Every sample is built once before anything runs, so that a bad case stops the sweep before it starts.
+  // Every sample is built (amorphous ones: checked) once before anything runs, so that a bad case stops the
+  // sweep before it starts. The facts of an amorphous sample are filled in when it is made.
   std::vector<PatchCaseResult> results;
-  for (const PatchCase& c : cfg.cases) {
-    const PatchSample s = make_case_sample(c);
-    if (c.test == PatchTest::elastic) validate(cfg.elastic, s);
-    PatchCaseResult r;
-    r.c = c;
+  auto fill = [](PatchCaseResult& r, const PatchSample& s) {
     r.description = s.description;
     r.particles = static_cast<long>(s.particles.size());
     r.deformable = s.free_count;
-    r.d0 = s.d0;
-    r.size_over_d0 = (1.0 / s.d0) * s.box.length();
-    r.target = target_strength(c.material, c.test, s.d0);
+    r.d0 = r.c.amorphous ? r.c.amorphous_spec.d0_absolute() : s.d0;  // amorphous: the mode, as the paper plots it
+    r.size_over_d0 = (1.0 / r.d0) * s.box.length();
+    r.volume_fraction = s.volume_fraction;
+    r.target = target_strength(r.c.material, r.c.test, r.d0);
+  };
+  for (const PatchCase& c : cfg.cases) {
+    PatchCaseResult r;
+    r.c = c;
+    if (c.amorphous) {
+      check_case_sample(c);
+      r.d0 = c.amorphous_spec.d0_absolute();
+      r.target = target_strength(c.material, c.test, r.d0);
+    } else {
+      const PatchSample s = make_case_sample(c);
+      if (c.test == PatchTest::elastic) validate(cfg.elastic, s);
+      fill(r, s);
+    }
     results.push_back(r);
   }
   std::cout << cfg.cases.size() << " case(s)\n";
@@ -106,20 +122,25 @@ int run(const Options& opt) {
     echo << text;
   }
   PatchCasesCsv table((dir / "cases.csv").string());
+  AmorphousSampleCache cache(cfg.cache_directory.empty() ? (dir / "samples").string() : cfg.cache_directory, std::cout);
 
   const auto t0 = Clock::now();
   int failed = 0;
   for (PatchCaseResult& r : results) {
     const PatchCase& c = r.c;
-    std::cout << "\ncase " << c.index << "/" << results.size() << ": " << describe_case(c) << "\n  " << r.description
-              << std::endl;
+    std::cout << "\ncase " << c.index << "/" << results.size() << ": " << describe_case(c) << std::endl;
+    if (!c.amorphous) std::cout << "  " << r.description << std::endl;
     std::unique_ptr<Progress> progress;
     const PatchProgress report = [&](long step, long limit, std::size_t n) {
       if (!progress) progress = std::make_unique<Progress>(0, limit, std::cout, cfg.progress_seconds);
       progress->update(step, n);
     };
     try {
-      const PatchSample s = make_case_sample(c);
+      const PatchSample s = make_case_sample(c, &cache);
+      if (c.amorphous) {
+        fill(r, s);
+        std::cout << "  " << r.description << std::endl;
+      }
       if (c.test == PatchTest::elastic) {
         r.elastic = run_elastic_test(s, c.material, cfg.elastic, report);
       } else {
@@ -132,6 +153,10 @@ int run(const Options& opt) {
       }
       r.ok = true;
     } catch (const PatchRunError& e) {
+      r.error = e.what();
+      ++failed;
+    } catch (const InputError& e) {  // an amorphous sample too small for its interior margin, ...
+      if (!c.amorphous) throw;
       r.error = e.what();
       ++failed;
     }

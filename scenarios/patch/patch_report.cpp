@@ -27,8 +27,9 @@ const char* const kColumns[] = {
     "eps_yy", "sigma_xx", "sigma_yy", "sigma_zz", "C11", "C12", "C13", "E", "nu", "E_dev", "nu_dev", "nu_rel_dev",
     "eps_yy_walls", "sigma_yy_part", "C11_walls", "C12_walls", "E_walls", "nu_walls",
     // strength
-    "strength", "target_strength", "strength_over_target", "strain_at_peak", "outcome", "final_over_peak",
-    "curve_file"};
+    "strength", "target_strength", "strength_over_target", "strain_at_peak", "outcome", "final_over_peak", "curve_file",
+    // the sample: volume fraction, the discretisation study's L, the health check, the elastic pre-stress
+    "volume_fraction", "system_size_over_dc", "initial_overlap_over_r_min", "overlap_limit", "sigma0_xx", "sigma0_yy"};
 
 // A CSV field: quoted when it holds a comma, a quote or a line break.
 std::string field(const std::string& s) {
@@ -70,7 +71,7 @@ void PatchCasesCsv::write(const PatchCaseResult& r) {
   std::vector<std::string> f;
   f.push_back(std::to_string(c.index));
   f.push_back(patch_test_name(c.test));
-  f.push_back(field(c.lattice ? std::string("hcp") : c.data_file));
+  f.push_back(field(c.lattice ? std::string("hcp") : (c.amorphous ? c.sample_label() : c.data_file)));
   f.push_back(c.lattice ? std::string(1, "xyz"[c.hcp.c_axis]) : "");
   f.push_back(num(r.d0 / c.material.critical_diameter()));
   f.push_back(num(r.d0));
@@ -109,6 +110,20 @@ void PatchCasesCsv::write(const PatchCaseResult& r) {
     f.push_back(field(r.curve_file));
   } else {
     for (int k = 0; k < 7; ++k) f.push_back("");
+  }
+  f.push_back(r.volume_fraction > 0 ? num(r.volume_fraction) : "");
+  f.push_back(c.system_size > 0 ? num(c.system_size) : "");
+  if (r.ok) {
+    f.push_back(num(elastic ? r.elastic.initial_overlap : r.strength.initial_overlap));
+    f.push_back(num(elastic ? r.elastic.overlap_limit : r.strength.overlap_limit));
+  } else {
+    f.insert(f.end(), 2, "");
+  }
+  if (r.ok && elastic) {
+    f.push_back(num(r.elastic.sigma0.xx));
+    f.push_back(num(r.elastic.sigma0.yy));
+  } else {
+    f.insert(f.end(), 2, "");
   }
   std::string line;
   for (const std::string& s : f) line += (line.empty() ? "" : ",") + s;
@@ -194,7 +209,7 @@ std::string write_plots(const std::string& dir, const std::vector<PatchCaseResul
   // Elastic: E deviation and measured nu against the target nu, one series per sample, d0 and s.
   std::map<std::string, Series> e_dev, nu_meas;
   for (const PatchCaseResult& r : results) {
-    if (!r.ok || r.c.test != PatchTest::elastic) continue;
+    if (!r.ok || r.c.test != PatchTest::elastic || r.c.amorphous) continue;  // amorphous: against d0 below
     const std::string key = r.c.sample_label() + ", d0 = " + short_num(r.d0 / r.c.material.critical_diameter()) +
                             " d_c, s = " + short_num(r.c.material.scaling);
     e_dev[key].title = key;
@@ -225,10 +240,76 @@ std::string write_plots(const std::string& dir, const std::vector<PatchCaseResul
     pngs.push_back("elastic_nu.png");
   }
 
+  // Amorphous samples against d0 / d_c (Figs 7, 8, A.6): relaxed volume fraction, E / E_target, measured nu;
+  // one series per sample label, nu and s.
+  {
+    std::map<std::string, Series> phi, young, poisson;
+    std::map<double, bool> nu_targets;
+    for (const PatchCaseResult& r : results) {
+      if (!r.c.amorphous || r.volume_fraction <= 0) continue;
+      const double x = r.d0 / r.c.material.critical_diameter();
+      const std::string key = r.c.sample_label() + ", nu = " + short_num(r.c.material.poisson_ratio) +
+                              ", s = " + short_num(r.c.material.scaling);
+      phi[key].title = key;  // one point per sample: the tests of one sample share it
+      if (std::find_if(phi[key].xy.begin(), phi[key].xy.end(), [x](const auto& p) { return p.first == x; }) ==
+          phi[key].xy.end())
+        phi[key].xy.push_back({x, r.volume_fraction});
+      if (r.ok && r.c.test == PatchTest::elastic) {
+        young[key].title = poisson[key].title = key;
+        young[key].xy.push_back({x, r.elastic.moduli.E / r.c.material.youngs_modulus});
+        poisson[key].xy.push_back({x, r.elastic.moduli.nu});
+        nu_targets[r.c.material.poisson_ratio] = true;
+      }
+    }
+    auto values = [](std::map<std::string, Series>& m) {
+      std::vector<Series> v;
+      for (auto& [k, s] : m) {
+        std::sort(s.xy.begin(), s.xy.end());
+        v.push_back(s);
+      }
+      return v;
+    };
+    if (!phi.empty()) {
+      gp << "\n# Fig 7: relaxed volume fraction of the amorphous samples\n"
+         << terminal << "set output 'amorphous_volume_fraction.png'\nset logscale x\nunset logscale y\n"
+         << "set title 'Amorphous samples: relaxed volume fraction (paper Fig 7)'\n"
+         << "set xlabel 'd0 / d_c'\nset ylabel 'volume fraction (sum of sphere volumes / box volume)'\n";
+      const std::string c = datablocks(gp, "phi", values(phi), "with linespoints lw 2 pt 7");
+      gp << "plot [0.4:120] pi / (3 * sqrt(2)) with lines lc 'black' dt 4 lw 2 title 'HCP lattice, pi / (3 sqrt 2)', "
+            "\\\n     "
+         << c << "\n";
+      pngs.push_back("amorphous_volume_fraction.png");
+    }
+    if (!young.empty()) {
+      gp << "\n# Fig 8: E of the amorphous samples\n"
+         << "set output 'amorphous_E_vs_d0.png'\n"
+         << "set title 'Amorphous samples: measured E / target E (paper Fig 8; the paper: no result above 20 d_c, "
+            "the samples give way)'\n"
+         << "set xlabel 'd0 / d_c'\nset ylabel 'E / E_target'\n";
+      const std::string c = datablocks(gp, "young", values(young), "with linespoints lw 2 pt 7");
+      gp << "plot [0.4:120] 1 with lines lc 'black' dt 4 lw 2 title 'target', \\\n     " << c << "\n";
+      gp << "\n# Fig A.6: nu of the amorphous samples\n"
+         << "set output 'amorphous_nu_vs_d0.png'\n"
+         << "set title 'Amorphous samples: measured Poisson ratio (paper Fig A.6: about 0.20 for a target of 0.15)'\n"
+         << "set xlabel 'd0 / d_c'\nset ylabel 'measured nu'\n";
+      std::string lines;
+      for (const auto& [nu, unused] : nu_targets)
+        lines += num(nu) + " with lines lc 'black' dt 4 lw 2 title " + gp_string("target nu = " + short_num(nu)) +
+                 ", \\\n     ";
+      const std::string c2 = datablocks(gp, "poisson", values(poisson), "with linespoints lw 2 pt 7");
+      gp << "plot [0.4:120] " << lines
+         << "0.20 with lines lc 'grey40' dt 2 lw 2 title 'paper, target 0.15: about 0.20', "
+         << "\\\n     " << c2 << "\n";
+      pngs.push_back("amorphous_E_vs_d0.png");
+      pngs.push_back("amorphous_nu_vs_d0.png");
+    }
+  }
+
   // Strengths against d0 / d_c, one series per sample, nu and s, with eq 20 for each s.
   for (PatchTest t : {PatchTest::tension, PatchTest::shear}) {
     std::map<std::string, Series> series;
     std::map<double, double> targets;  // s -> sigma (plain strength), for the target curves
+    bool any_amorphous = false;
     int no_peak = 0;
     for (const PatchCaseResult& r : results) {
       if (!r.ok || r.c.test != t) continue;
@@ -240,6 +321,7 @@ std::string write_plots(const std::string& dir, const std::vector<PatchCaseResul
                               ", s = " + short_num(r.c.material.scaling);
       series[key].title = key;
       series[key].xy.push_back({r.d0 / r.c.material.critical_diameter(), r.strength.strength});
+      any_amorphous = any_amorphous || r.c.amorphous;
       targets[r.c.material.scaling] =
           t == PatchTest::tension ? r.c.material.tensile_strength : r.c.material.shear_strength;
     }
@@ -267,6 +349,12 @@ std::string write_plots(const std::string& dir, const std::vector<PatchCaseResul
         const int dash = s == 0.0 ? 4 : 3;  // the paper: dash-dot for s = 0, dotted for s = 0.5
         clauses += f + " with lines lc 'black' dt " + std::to_string(dash) + " lw 2 title " +
                    gp_string("target, eq 20, s = " + short_num(s)) + ", \\\n     ";
+        if (any_amorphous) {  // section 3.2: amorphous samples reach 50% (tension) and 56% (shear) of the target
+          const double ratio = t == PatchTest::tension ? 0.50 : 0.56;
+          clauses += num(ratio) + " * " + f + " with lines lc 'grey40' dt " + std::to_string(dash) + " lw 1.5 title " +
+                     gp_string("paper, amorphous: " + short_num(ratio) + " x target, s = " + short_num(s)) +
+                     ", \\\n     ";
+        }
       }
       const std::string data = datablocks(gp, name, v, "with linespoints lw 2 pt 7");
       gp << "plot [0.4:120] " << clauses << data << "\n";

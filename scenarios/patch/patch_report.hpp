@@ -16,7 +16,8 @@ struct PatchCaseResult {
   std::string description;  // the sample, in words
   long particles = 0, deformable = 0;
   Vec3 size_over_d0{};
-  double d0 = 0;  // mean diameter (lattice: the spacing)
+  double d0 = 0;               // lattice: the spacing; data file: the mean diameter; amorphous: the mode d0
+  double volume_fraction = 0;  // of the periodic sample (lattice: pi / (3 sqrt 2))
   bool ok = false;
   std::string error;  // why the case has no result
   ElasticResult elastic;
