@@ -6,7 +6,8 @@
 //   - nodes of one particle grain that no intact bond joins: the self-contact that stops a broken grain
 //     from interpenetrating itself (section 3.2, "Prevention of self-penetration").
 // Rows are built in two kernel passes (count, prefix sum, fill) over a cell list, so they are the same for
-// any thread count. The domain is bounded (no periodic axes): the cells cover the nodes' bounding box.
+// any thread count; the counting pass keeps the first partners of each row, so that the fill searches again
+// only for long rows. The domain is bounded (no periodic axes): the cells cover the nodes' bounding box.
 // The list stays valid until some node has moved skin/2 or a bond has broken (request_rebuild).
 //
 // Grain-pair slots, for the damping between grain centres (eqs 26-30): the force between two grains is
@@ -81,6 +82,9 @@ class PdContactList {
     int i, j;
   };
   std::vector<SlotEntry> scratch_;  // kept between builds to avoid reallocating
+  // The first kRowBuffer partners of every row, found by the counting pass of a build (kept between builds).
+  static constexpr int kRowBuffer = 8;
+  std::vector<int> row_buffer_;
 };
 
 }  // namespace debris

@@ -71,6 +71,27 @@ inline Vec3 lps_bond_force(const PdLpsConstants& c, Vec3 y, double length0, doub
   return ((t_i + t_j) * volume_j / length) * y;
 }
 
+/// The force state of eq 7 split into per-node factors, for the bond-force pass:
+///   t_i<xi> = J (P_i x + Q_i e),   P_i = (d k - a G / d) theta_i / m_i,   Q_i = a G / m_i
+/// (eq 7 expanded: d k theta x / m + a G (e - theta x / d) / m), so the pass divides once per node, not per
+/// bond. A node without bonds (m_i = 0) gets P = Q = 0.
+struct LpsNodeFactors {
+  double p = 0.0, q = 0.0;
+};
+inline LpsNodeFactors lps_node_factors(const PdLpsConstants& c, double theta, double weighted_volume) {
+  if (!(weighted_volume > 0.0)) return LpsNodeFactors{};
+  const double inv_m = 1.0 / weighted_volume;
+  return LpsNodeFactors{(c.dimension * c.bulk - c.shear / c.dimension) * theta * inv_m, c.shear * inv_m};
+}
+
+/// Eq 33's bond term from the node factors: the scalar s with (T_i<xi> - T_j<-xi>) V_j = s y, that is
+/// (t_i + t_j) V_j / |y| = J V_j ((P_i + P_j) x + (Q_i + Q_j) e) / |y|. inv_length = 1 / |y| (0 for a bond
+/// crushed to zero length: no direction, no force). The same force as lps_bond_force up to round-off.
+inline double lps_bond_force_scale(double J, double length0, double extension, double volume_j, double p_sum,
+                                   double q_sum, double inv_length) {
+  return J * volume_j * (p_sum * length0 + q_sum * extension) * inv_length;
+}
+
 /// Isotropic part of the LPS energy density at a node: k theta^2 / 2.
 inline double lps_dilatation_energy(const PdLpsConstants& c, double theta) { return 0.5 * c.bulk * theta * theta; }
 

@@ -8,15 +8,24 @@
 //   pd_dilatation_pass     theta_i of eqs 13/34 over the intact bonds
 //   pd_bond_force_pass     f_i += V_i F_i, F_i of eq 33 (force density; PdNodes stores newtons)
 //
-// (pd_bond_step runs the three in this order.) pd_weighted_volume_pass runs once, in the reference state.
+// pd_bond_step does the same in two sweeps over the bonds: break + dilatation (row i breaks its own entries,
+// then sums the intact ones: what the separate passes give, bit for bit), then the force.
+// pd_weighted_volume_pass runs once, in the reference state.
+//
+// How they run (kernels/pd_bond_passes.cpp): rows are handed to the threads in blocks of equal bond entries;
+// within a row, a vector loop computes every entry's term into a small local array and a scalar loop sums
+// them in entry order, so the bits depend neither on the thread count nor on the vector width chosen at
+// run time (the host build also has an AVX2 + FMA version; FMA may change the last bits from one machine to
+// another). The force uses t_i<xi> = J (P_i x + Q_i e) with per-node factors P, Q (lps_node_factors, kept in
+// BondList::node_factors): one division per entry (1 / |y|) where eqs 7 and 33 written out take four.
 //
 // Per-node constants: node i belongs to grain nodes.grain[i], whose material is grains.material[g], an
 // index into `lps` (PdLpsConstants::from of the scenario's material table). Wall nodes have no bonds and
 // get m = theta = 0, no force and no damage.
 //
-// Offload builds: like the node columns, the bond list arrays, grains.material and the `lps` table must be
-// resident on the device (exec::device_enter) before these passes run, and `broken` copied back
-// (exec::update_host) when the contact list is rebuilt after a step that broke bonds.
+// Offload builds: like the node columns, the bond list arrays (node_factors included, sized 2 n), grains.material
+// and the `lps` table must be resident on the device (exec::device_enter) before these passes run, and
+// `broken` copied back (exec::update_host) when the contact list is rebuilt after a step that broke bonds.
 #include <vector>
 
 #include "kernels/pd_material.hpp"

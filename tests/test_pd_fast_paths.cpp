@@ -1,0 +1,254 @@
+// The optimised paths of the PeriDEM passes against plain references: the bond passes (vector loops over
+// padded rows, per-node force factors, break + dilatation fused in pd_bond_step, rows handed out in blocks
+// of equal work) against the pure bond functions of kernels/lps_bond_force.hpp summed node by node, and
+// against the separate passes and another thread count; the contact list's buffered rows against a
+// brute-force pair search, with rows longer than the buffer.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <utility>
+#include <vector>
+
+#include "core/bond_list.hpp"
+#include "core/exec.hpp"
+#include "core/pd_contact_list.hpp"
+#include "core/pd_nodes.hpp"
+#include "kernels/lps_bond_force.hpp"
+#include "kernels/pd_bond_passes.hpp"
+#include "kernels/pd_material.hpp"
+
+namespace debris {
+namespace {
+
+struct System {
+  PdNodes nodes;
+  PdGrains grains;
+  std::vector<PdLpsConstants> lps;
+  std::vector<double> horizon;  // per grain
+  BondList bonds;
+
+  int begin_grain(PdGrainKind kind, int material, double eps) {
+    const int g = static_cast<int>(grains.size());
+    grains.resize(static_cast<std::size_t>(g) + 1);
+    grains.node_begin[g] = grains.node_end[g] = static_cast<int>(nodes.size());
+    grains.kind[g] = static_cast<int>(kind);
+    grains.material[g] = material;
+    horizon.push_back(eps);
+    return g;
+  }
+  // nx * ny * nz nodes at spacing h from corner o (nz = 1: a 2D grid), volume h^d.
+  void add_grid(PdGrainKind kind, int material, double eps, Vec3 o, int nx, int ny, int nz, double h) {
+    const int g = begin_grain(kind, material, eps);
+    const double volume = nz == 1 ? h * h : h * h * h;
+    for (int c = 0; c < nz; ++c)
+      for (int b = 0; b < ny; ++b)
+        for (int a = 0; a < nx; ++a) {
+          const auto id = static_cast<std::int64_t>(nodes.size());
+          nodes.add(id, g, o.x + a * h, o.y + b * h, o.z + c * h, volume);
+        }
+    grains.node_end[g] = static_cast<int>(nodes.size());
+  }
+};
+
+/// Four grains: a 2D grid, a wall, a 3D grid whose interior rows (about 137 bonds) are longer than a
+/// staging round of the passes, and a grain of two nodes; materials M1 in 2D and in 3D (horizon 0.6 mm).
+System make_system() {
+  System s;
+  const PdMaterial m2 = peridem_material_m1(2), m3 = peridem_material_m1(3);
+  s.lps = {PdLpsConstants::from(m2), PdLpsConstants::from(m3)};
+  const double eps = m2.horizon, h = eps / 3.2;
+  s.add_grid(PdGrainKind::particle, 0, eps, {0, 0, 0}, 13, 11, 1, h);
+  s.add_grid(PdGrainKind::wall, 0, eps, {0, -3 * h, 0}, 15, 2, 1, h);
+  s.add_grid(PdGrainKind::particle, 1, eps, {20 * h, 0, 0}, 7, 7, 7, h);
+  s.add_grid(PdGrainKind::particle, 0, eps, {0, 20 * h, 0}, 2, 1, 1, h);
+  s.bonds = BondList::build(s.nodes, s.grains, s.horizon);
+  pd_weighted_volume_pass(s.lps, s.grains, s.bonds, s.nodes);
+  return s;
+}
+
+/// Random displacements of 0.4 s_0 h, a band of the 2D grid pulled past s_0, 10% of the bonds broken
+/// beforehand, and one bond of the 3D grid crushed to zero length.
+void deform(System& s, std::uint64_t seed) {
+  const double s0 = s.lps[0].critical_stretch, h = s.lps[0].horizon / 3.2;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    const bool flat = s.grains.material[s.nodes.grain[i]] == 0;
+    s.nodes.x[i] = s.nodes.x0[i] + 0.4 * s0 * h * u(rng) + 1.3 * s0 * std::max(0.0, s.nodes.x0[i] - 6 * h);
+    s.nodes.y[i] = s.nodes.y0[i] + 0.4 * s0 * h * u(rng);
+    s.nodes.z[i] = s.nodes.z0[i] + (flat ? 0.0 : 0.4 * s0 * h * u(rng));
+  }
+  const int first3d = s.grains.node_begin[2];
+  s.nodes.x[first3d + 1] = s.nodes.x[first3d];
+  s.nodes.y[first3d + 1] = s.nodes.y[first3d];
+  s.nodes.z[first3d + 1] = s.nodes.z[first3d];
+  std::bernoulli_distribution pick(0.1);
+  BondList& b = s.bonds;
+  for (int i = 0; i < static_cast<int>(b.nodes()); ++i)
+    for (int k = b.offset[i]; k < b.offset[i + 1]; ++k) {
+      const int j = b.partner[k];
+      if (i < j && pick(rng))
+        for (int e = b.offset[j]; e < b.offset[j + 1]; ++e)
+          if (b.partner[e] == i) b.broken[k] = b.broken[e] = 1;
+    }
+  std::fill(s.nodes.fx.begin(), s.nodes.fx.end(), 0.0);
+  std::fill(s.nodes.fy.begin(), s.nodes.fy.end(), 0.0);
+  std::fill(s.nodes.fz.begin(), s.nodes.fz.end(), 0.0);
+}
+
+Vec3 position(const System& s, int i) { return {s.nodes.x[i], s.nodes.y[i], s.nodes.z[i]}; }
+const PdLpsConstants& constants(const System& s, int i) {
+  return s.lps[static_cast<std::size_t>(s.grains.material[s.nodes.grain[i]])];
+}
+
+TEST(PdBondPassesFast, StepEqualsThePureBondFunctionsSummedPerNode) {
+  System s = make_system();
+  deform(s, 7);
+  const std::vector<unsigned char> broken_before = s.bonds.broken;
+  const long broke = pd_bond_step(s.lps, s.grains, s.bonds, s.nodes);
+  const BondList& b = s.bonds;
+  const int n = static_cast<int>(s.nodes.size());
+
+  // Eq 11: exactly the intact entries whose stretch reached s_0 broke; both ends agree.
+  long newly = 0;
+  for (int i = 0; i < n; ++i)
+    for (int k = b.offset[i]; k < b.offset[i + 1]; ++k) {
+      const double stretch = lps_stretch(norm(position(s, b.partner[k]) - position(s, i)), b.length0[k]);
+      const bool expect = broken_before[k] || lps_bond_breaks(stretch, constants(s, i).critical_stretch);
+      ASSERT_EQ(b.broken[k], expect ? 1 : 0) << "entry " << k;
+      newly += broken_before[k] ? 0 : b.broken[k];
+    }
+  EXPECT_GT(broke, 0);
+  EXPECT_EQ(2 * broke, newly);
+
+  // Theta (eq 34) and the force (eq 33) from the pure functions, over the bonds intact after the step.
+  std::vector<double> theta(static_cast<std::size_t>(n), 0.0);
+  for (int i = 0; i < n; ++i) {
+    if (b.offset[i] == b.offset[i + 1]) continue;
+    const PdLpsConstants& c = constants(s, i);
+    double sum = 0.0;
+    for (int k = b.offset[i]; k < b.offset[i + 1]; ++k) {
+      if (b.broken[k]) continue;
+      const int j = b.partner[k];
+      const double x0 = b.length0[k], e = norm(position(s, j) - position(s, i)) - x0;
+      sum += lps_dilatation_term(lps_influence(x0 / c.horizon), x0, e, s.nodes.volume[j]);
+    }
+    theta[i] = lps_dilatation(c, sum, s.nodes.weighted_volume[i]);
+  }
+  double theta_max = 0.0;
+  for (double t : theta) theta_max = std::max(theta_max, std::fabs(t));
+  ASSERT_GT(theta_max, 0.0);
+  int checked = 0, zero_length = 0;
+  for (int i = 0; i < n; ++i) {
+    EXPECT_NEAR(s.nodes.theta[i], theta[i], 1e-13 * theta_max) << "node " << i;
+    const PdLpsConstants& c = constants(s, i);
+    Vec3 f{};
+    double scale = 0.0;
+    for (int k = b.offset[i]; k < b.offset[i + 1]; ++k) {
+      if (b.broken[k]) continue;
+      const int j = b.partner[k];
+      const Vec3 y = position(s, j) - position(s, i);
+      zero_length += norm(y) == 0.0;
+      const Vec3 t = lps_bond_force(c, y, b.length0[k], s.nodes.volume[j], theta[i], s.nodes.weighted_volume[i],
+                                    theta[j], s.nodes.weighted_volume[j]);
+      f += t;
+      scale += norm(t);
+    }
+    f = s.nodes.volume[i] * f;
+    scale *= s.nodes.volume[i];
+    const Vec3 got{s.nodes.fx[i], s.nodes.fy[i], s.nodes.fz[i]};
+    EXPECT_LE(norm(got - f), 1e-13 * scale + 1e-300) << "node " << i;
+    checked += scale > 0.0;
+  }
+  EXPECT_GT(checked, n / 2);
+  EXPECT_EQ(zero_length, 2) << "the crushed bond, seen from both ends, gives no force and no NaN";
+}
+
+struct Snapshot {
+  std::vector<double> theta, fx, fy, fz;
+  std::vector<unsigned char> broken;
+  long broke = 0;
+  bool operator==(const Snapshot&) const = default;
+};
+
+Snapshot snapshot(const System& s, long broke) {
+  return {s.nodes.theta, s.nodes.fx, s.nodes.fy, s.nodes.fz, s.bonds.broken, broke};
+}
+
+TEST(PdBondPassesFast, FusedStepEqualsTheSeparatePassesBitForBitOnAnyThreadCount) {
+  const int saved = exec::threads();
+  exec::set_threads(1);
+  System fused = make_system(), separate = make_system(), two = make_system();
+  for (System* s : {&fused, &separate, &two}) deform(*s, 11);
+  const Snapshot a = snapshot(fused, pd_bond_step(fused.lps, fused.grains, fused.bonds, fused.nodes));
+  const long broke = pd_break_bonds_pass(separate.lps, separate.grains, separate.bonds, separate.nodes);
+  pd_dilatation_pass(separate.lps, separate.grains, separate.bonds, separate.nodes);
+  pd_bond_force_pass(separate.lps, separate.grains, separate.bonds, separate.nodes);
+  const Snapshot b = snapshot(separate, broke);
+  exec::set_threads(2);
+  const Snapshot c = snapshot(two, pd_bond_step(two.lps, two.grains, two.bonds, two.nodes));
+  exec::set_threads(saved);
+  EXPECT_GT(a.broke, 0);
+  EXPECT_TRUE(a == b) << "pd_bond_step differs from break + dilatation + force";
+  EXPECT_TRUE(a == c) << "pd_bond_step differs between 1 and 2 threads";
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Contact list: rows of about 20 partners (more than the build keeps from its counting pass).
+
+TEST(PdContactListFast, LongRowsMatchBruteForceOnAnyThreadCount) {
+  System s;
+  const double h = 1.0;
+  s.add_grid(PdGrainKind::particle, 0, 1.5, {0, 0, 0}, 9, 9, 1, h);
+  s.add_grid(PdGrainKind::wall, 0, 1.5, {-2, -2.2, 0}, 14, 2, 1, h);
+  s.add_grid(PdGrainKind::wall, 0, 1.5, {-2, -4.2, 0}, 14, 2, 1, h);  // walls never touch walls
+  s.add_grid(PdGrainKind::particle, 0, 1.5, {9.6, 0.3, 0}, 5, 5, 1, h);
+  s.bonds = BondList::build(s.nodes, s.grains, s.horizon);
+  // Break a few bonds: their two nodes become self-contact candidates.
+  for (int k = 0; k < static_cast<int>(s.bonds.entries()); k += 7) {
+    const int i =
+        static_cast<int>(std::upper_bound(s.bonds.offset.begin(), s.bonds.offset.end(), k) - s.bonds.offset.begin()) -
+        1;
+    const int j = s.bonds.partner[k];
+    for (int e = s.bonds.offset[j]; e < s.bonds.offset[j + 1]; ++e)
+      if (s.bonds.partner[e] == i) s.bonds.broken[k] = s.bonds.broken[e] = 1;
+  }
+  const double cutoff = 2.0, skin = 0.5, reach = cutoff + skin;
+  const int n = static_cast<int>(s.nodes.size());
+  std::vector<std::vector<int>> expect(static_cast<std::size_t>(n));
+  std::size_t longest = 0;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      if (j == i || norm(position(s, j) - position(s, i)) >= reach) continue;
+      const int gi = s.nodes.grain[i], gj = s.nodes.grain[j];
+      const bool walls = s.grains.kind[gi] == 1 && s.grains.kind[gj] == 1;
+      if (walls || (gi == gj && s.bonds.intact(i, j))) continue;
+      expect[static_cast<std::size_t>(i)].push_back(j);
+    }
+    longest = std::max(longest, expect[static_cast<std::size_t>(i)].size());
+  }
+  ASSERT_GT(longest, 12u) << "rows must outgrow the build's buffer";
+  const int saved = exec::threads();
+  std::vector<int> index_one;
+  for (const int threads : {1, 2}) {
+    exec::set_threads(threads);
+    PdContactList list;
+    list.build(s.nodes, s.grains, s.bonds, cutoff, skin);
+    ASSERT_EQ(list.rows(), n);
+    for (int i = 0; i < n; ++i) {
+      std::vector<int> row(list.index().begin() + list.offset()[i], list.index().begin() + list.offset()[i + 1]);
+      std::sort(row.begin(), row.end());
+      EXPECT_EQ(row, expect[static_cast<std::size_t>(i)]) << threads << " threads, node " << i;
+    }
+    if (threads == 1)
+      index_one = list.index();
+    else
+      EXPECT_EQ(list.index(), index_one) << "rows in the same order with 1 and 2 threads";
+  }
+  exec::set_threads(saved);
+}
+
+}  // namespace
+}  // namespace debris
