@@ -13,32 +13,17 @@
 
 #include "core/io/hdf5_file.hpp"
 #include "scenarios/common/dem_simulation.hpp"
+#include "tests/cli_helpers.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int exit_code;
-  std::string output;  // stdout and stderr
-};
+using Result = debris::test::CommandResult;
 
-Result run_dem(const std::string& args) {
-  const std::string cmd = std::string(DEBRIS_DEM_EXECUTABLE) + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf{};
-  while (pipe && fgets(buf.data(), buf.size(), pipe)) out += buf.data();
-  const int status = pipe ? pclose(pipe) : -1;
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+Result run_dem(const std::string& args) { return debris::test::run_command(DEBRIS_DEM_EXECUTABLE, args); }
 
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::path(::testing::TempDir()) / ("debris_cli_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path scratch(const std::string& name) { return debris::test::fresh_directory("debris_cli_" + name); }
 
 // A small valid input; `edit` replaces one line to make it bad.
 std::string small_input(const std::string& out_dir) {

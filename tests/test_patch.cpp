@@ -18,6 +18,7 @@
 #include "core/io/lammps_data.hpp"
 #include "core/lattice.hpp"
 #include "scenarios/common/patch_test.hpp"
+#include "tests/cli_helpers.hpp"
 
 namespace debris {
 namespace {
@@ -305,27 +306,11 @@ TEST(PatchSample, DataFileSampleMatchesTheLattice) {
 // ---------------------------------------------------------------------------------------------------------
 // The executable.
 
-struct Result {
-  int exit_code;
-  std::string output;
-};
+using Result = debris::test::CommandResult;
 
-Result run_patch(const std::string& args) {
-  const std::string cmd = std::string(DEBRIS_PATCH_EXECUTABLE) + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf{};
-  while (pipe && fgets(buf.data(), buf.size(), pipe)) out += buf.data();
-  const int status = pipe ? pclose(pipe) : -1;
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+Result run_patch(const std::string& args) { return debris::test::run_command(DEBRIS_PATCH_EXECUTABLE, args); }
 
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::path(::testing::TempDir()) / ("debris_patch_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path scratch(const std::string& name) { return debris::test::fresh_directory("debris_patch_" + name); }
 
 std::string small_input() {
   return R"(test: [elastic, tension]

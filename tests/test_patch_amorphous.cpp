@@ -17,6 +17,7 @@
 #include "core/exec.hpp"
 #include "scenarios/common/amorphous_sample.hpp"
 #include "scenarios/common/patch_test.hpp"
+#include "tests/cli_helpers.hpp"
 
 namespace debris {
 namespace {
@@ -129,29 +130,15 @@ TEST(PatchAmorphous, OverlapLimitIsASettingAndAutomaticFitsRelaxedSamples) {
 // ---------------------------------------------------------------------------------------------------------
 // debris_patch with kind: amorphous.
 
-struct Result {
-  int exit_code;
-  std::string output;
-};
+using Result = debris::test::CommandResult;
 
 Result run_input(const fs::path& dir, const std::string& yaml) {
   std::ofstream(dir / "in.yaml") << yaml;
-  const std::string cmd = std::string(DEBRIS_PATCH_EXECUTABLE) + " -i " + (dir / "in.yaml").string() + " -o " +
-                          (dir / "out").string() + " --threads 1 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf{};
-  while (pipe && fgets(buf.data(), buf.size(), pipe)) out += buf.data();
-  const int status = pipe ? pclose(pipe) : -1;
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  return debris::test::run_command(DEBRIS_PATCH_EXECUTABLE, "-i " + (dir / "in.yaml").string() + " -o " +
+                                                                (dir / "out").string() + " --threads 1");
 }
 
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::path(::testing::TempDir()) / ("debris_patch_amorphous_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path scratch(const std::string& name) { return debris::test::fresh_directory("debris_patch_amorphous_" + name); }
 
 std::string small_input() {
   return R"(test: elastic

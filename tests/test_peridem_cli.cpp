@@ -17,32 +17,17 @@
 #include "core/error.hpp"
 #include "scenarios/common/peridem_input.hpp"
 #include "scenarios/common/peridem_simulation.hpp"
+#include "tests/cli_helpers.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int exit_code;
-  std::string output;  // stdout and stderr
-};
+using Result = debris::test::CommandResult;
 
-Result run_peridem(const std::string& args) {
-  const std::string cmd = std::string(DEBRIS_PERIDEM_EXECUTABLE) + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf{};
-  while (pipe && fgets(buf.data(), buf.size(), pipe)) out += buf.data();
-  const int status = pipe ? pclose(pipe) : -1;
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+Result run_peridem(const std::string& args) { return debris::test::run_command(DEBRIS_PERIDEM_EXECUTABLE, args); }
 
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::path(::testing::TempDir()) / ("debris_peridem_cli_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path scratch(const std::string& name) { return debris::test::fresh_directory("debris_peridem_cli_" + name); }
 
 // Two discs (R = 1 mm, Gmsh size 0.3 mm) above a wall; the top one falls at 10 m/s onto the bottom one,
 // which rests on the wall. 60 steps: they have not met yet (they meet near step 150).

@@ -18,18 +18,14 @@
 #include "core/io/node_trajectory_writer.hpp"
 #include "scenarios/common/peridem_input.hpp"
 #include "scenarios/common/peridem_simulation.hpp"
+#include "tests/cli_helpers.hpp"
 
 namespace debris {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::path(::testing::TempDir()) / ("debris_peridem_restart_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path scratch(const std::string& name) { return debris::test::fresh_directory("debris_peridem_restart_" + name); }
 
 // A fast impact that cracks both grains within a few hundred steps: a disc of R = 1 mm resting on a wall
 // is hit at 10 m/s by a disc of R = 1.5 mm that starts just beyond the contact radius. Coarse meshes

@@ -23,6 +23,7 @@
 #include "core/error.hpp"
 #include "core/io/hdf5_file.hpp"
 #include "core/io/trajectory_writer.hpp"
+#include "tests/cli_helpers.hpp"
 
 namespace debris {
 namespace {
@@ -30,12 +31,7 @@ namespace {
 namespace fs = std::filesystem;
 
 /// A fresh empty directory under the test temp dir.
-std::string fresh_dir(const std::string& name) {
-  const fs::path d = fs::path(::testing::TempDir()) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d.string();
-}
+std::string fresh_dir(const std::string& name) { return debris::test::fresh_directory(name).string(); }
 
 std::string slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
