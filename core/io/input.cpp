@@ -141,7 +141,7 @@ InputNode InputNode::load_string(const std::string& yaml, const std::string& nam
   return InputNode(std::make_shared<const YAML::Node>(root), "", tracking);
 }
 
-InputNode InputNode::load_file(const std::string& path) {
+std::string read_input_file(const std::string& path) {
   std::error_code ec;
   const auto status = std::filesystem::status(path, ec);
   if (status.type() == std::filesystem::file_type::not_found) throw input_error("input file", path, "no such file");
@@ -151,8 +151,10 @@ InputNode InputNode::load_file(const std::string& path) {
   if (!in) throw input_error("input file", path, "cannot be opened for reading");
   const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   if (in.bad()) throw input_error("input file", path, "cannot be read");
-  return load_string(text, path);
+  return text;
 }
+
+InputNode InputNode::load_file(const std::string& path) { return load_string(read_input_file(path), path); }
 
 InputNode::InputNode(NodePtr node, std::string path, std::shared_ptr<Tracking> tracking)
     : node_(std::move(node)), path_(std::move(path)), tracking_(std::move(tracking)) {}

@@ -16,6 +16,10 @@ class Node;
 
 namespace debris {
 
+/// The whole text of an input file; InputError ("input file") naming the path when it is missing, a
+/// directory, or unreadable.
+std::string read_input_file(const std::string& path);
+
 class InputNode {
  public:
   /// InputError naming the path if the file is missing or unreadable, or the line and column of a syntax error.

@@ -114,14 +114,6 @@ Config read_config(const std::string& text, const std::string& name) {
   return cfg;
 }
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw input_error("input file", path, "no such file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 std::string number_tag(double v) {
   std::ostringstream os;
   os << std::setprecision(6) << v;
@@ -208,7 +200,7 @@ struct Options {
 };
 
 int run(const Options& opt) {
-  const std::string text = read_text(opt.input);
+  const std::string text = read_input_file(opt.input);
   Config cfg = read_config(text, opt.input);
   if (!opt.output.empty()) cfg.directory = opt.output;
   exec::set_threads(opt.threads > 0 ? opt.threads : cfg.threads);

@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/io/input.hpp"
 #include "core/exec.hpp"
 #include "core/io/dump_writer.hpp"
 #include "core/io/progress.hpp"
@@ -64,14 +65,6 @@ void print_thermo(const std::vector<std::string>& cols, const std::vector<double
   std::cout << std::endl;
 }
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw input_error("input file", path, "no such file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 struct Options {
   std::string input, output, restart;
   int threads = 0;
@@ -89,7 +82,7 @@ int run(const Options& opt) {
       input_name = opt.restart + " (input echo)";
     }
   }
-  if (input_text.empty()) input_text = read_text(opt.input);
+  if (input_text.empty()) input_text = read_input_file(opt.input);
   const std::string base = opt.input.empty() ? std::string() : std::filesystem::path(opt.input).parent_path().string();
   DemRunConfig cfg = read_dem_input_text(input_text, input_name, base);
   if (!opt.output.empty()) cfg.output.directory = opt.output;

@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/io/input.hpp"
 #include "core/exec.hpp"
 #include "core/io/progress.hpp"
 #include "scenarios/patch/amorphous_cache.hpp"
@@ -35,14 +36,6 @@ struct Options {
   std::string input, output;
   int threads = 0;
 };
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw input_error("input file", path, "no such file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 std::string describe_case(const PatchCase& c) {
   std::ostringstream os;
@@ -80,7 +73,7 @@ std::string result_line(const PatchCaseResult& r) {
 }
 
 int run(const Options& opt) {
-  const std::string text = read_text(opt.input);
+  const std::string text = read_input_file(opt.input);
   PatchConfig cfg = read_patch_input_text(text, opt.input, fs::path(opt.input).parent_path().string());
   if (!opt.output.empty()) cfg.output_directory = opt.output;
   exec::set_threads(opt.threads > 0 ? opt.threads : cfg.threads);

@@ -328,11 +328,7 @@ PatchConfig read_patch_input_text(const std::string& text, const std::string& na
 }
 
 PatchConfig read_patch_input(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw input_error("input file", path, "no such file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return read_patch_input_text(ss.str(), path, std::filesystem::path(path).parent_path().string());
+  return read_patch_input_text(read_input_file(path), path, std::filesystem::path(path).parent_path().string());
 }
 
 PatchSample make_case_sample(const PatchCase& c, AmorphousSampleCache* cache) {

@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/io/input.hpp"
 #include "core/exec.hpp"
 #include "core/io/node_trajectory_writer.hpp"
 #include "core/io/progress.hpp"
@@ -134,14 +135,6 @@ void print_thermo(const std::vector<std::string>& cols, const std::vector<double
   std::cout << std::endl;
 }
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw input_error("input file", path, "no such file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 struct Options {
   std::string input, output, restart;
   int threads = 0;
@@ -159,7 +152,7 @@ int run(const Options& opt) {
       input_name = opt.restart + " (input echo)";
     }
   }
-  if (input_text.empty()) input_text = read_text(opt.input);
+  if (input_text.empty()) input_text = read_input_file(opt.input);
   const std::string base = opt.input.empty() ? std::string() : std::filesystem::path(opt.input).parent_path().string();
   PeridemInputOptions io;
   io.build_system = !restored;  // on restart the system comes from the checkpoint
