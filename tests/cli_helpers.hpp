@@ -1,12 +1,13 @@
 #pragma once
-// Helpers of the tests that run the real executables: a command's exit status and output, and a fresh
-// scratch directory under GoogleTest's temp dir.
+// Helpers of the tests that run the real executables or write files: a command's exit status and output,
+// a fresh scratch directory under GoogleTest's temp dir, a small text file.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 namespace debris::test {
@@ -33,6 +34,13 @@ inline std::filesystem::path fresh_directory(const std::string& name) {
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
   return d;
+}
+
+/// Writes `text` to `dir`/`name` and returns the path.
+inline std::string write_text_file(const std::filesystem::path& dir, const std::string& name, const std::string& text) {
+  const std::filesystem::path path = dir / name;
+  std::ofstream(path) << text;
+  return path.string();
 }
 
 }  // namespace debris::test

@@ -16,6 +16,7 @@
 #include "core/io/gmsh_msh.hpp"
 #include "core/io/grain_csv.hpp"
 #include "core/nodal_volume.hpp"
+#include "tests/cli_helpers.hpp"
 
 namespace debris {
 namespace {
@@ -24,18 +25,7 @@ namespace fs = std::filesystem;
 
 const std::string kData = std::string(DEBRIS_SOURCE_DIR) + "/scenarios/peridem/data";
 
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::path(DEBRIS_DEM_EXECUTABLE).parent_path().parent_path() / "test_scratch" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string write_file(const fs::path& dir, const std::string& name, const std::string& text) {
-  const fs::path path = dir / name;
-  std::ofstream(path) << text;
-  return path.string();
-}
+fs::path scratch(const std::string& name) { return debris::test::fresh_directory("debris_pd_" + name); }
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
@@ -109,7 +99,7 @@ TEST(PdGrainCsv, ErrorsNameTheFileTheLineAndTheColumn) {
       {"zonefraction.csv", header + "1.5, 1, 2, 3, 4, 5\n", {"'i' = '1.5'", "whole number"}},
   };
   for (const Case& c : cases) {
-    const std::string path = write_file(dir, c.name, c.text);
+    const std::string path = test::write_text_file(dir, c.name, c.text);
     const std::string message = csv_error(path);
     EXPECT_TRUE(contains(message, path)) << c.name << ": " << message;
     for (const std::string& part : c.expect) EXPECT_TRUE(contains(message, part)) << c.name << ": " << message;

@@ -17,6 +17,7 @@
 #include "core/error.hpp"
 #include "core/io/gmsh_msh.hpp"
 #include "core/nodal_volume.hpp"
+#include "tests/cli_helpers.hpp"
 
 namespace debris {
 namespace {
@@ -25,19 +26,7 @@ namespace fs = std::filesystem;
 
 const std::string kData = std::string(DEBRIS_SOURCE_DIR) + "/scenarios/peridem/data";
 
-/// A scratch directory in the build tree (beside the test binary), emptied first.
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::path(DEBRIS_DEM_EXECUTABLE).parent_path().parent_path() / "test_scratch" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string write_file(const fs::path& dir, const std::string& name, const std::string& text) {
-  const fs::path path = dir / name;
-  std::ofstream(path) << text;
-  return path.string();
-}
+fs::path scratch(const std::string& name) { return debris::test::fresh_directory("debris_pd_" + name); }
 
 std::string read_error(const std::string& path) {
   try {
@@ -132,7 +121,7 @@ TEST(PdMeshMsh, Msh41FromGmshEqualsMsh22OfTheSameMesh) {
       if (line.find("MshFileVersion") == std::string::npos) script += line + "\n";
   }
   ASSERT_TRUE(contains(script, "Point{1} In Surface {1}"));
-  const std::string geo = write_file(dir, "drum.geo", script);
+  const std::string geo = test::write_text_file(dir, "drum.geo", script);
   for (const char* format : {"msh22", "msh41"}) {
     const std::string cmd = std::string("gmsh -2 -format ") + format + " -o " + (dir / format).string() + ".msh " +
                             geo + " > " + (dir / format).string() + ".log 2>&1";
@@ -172,7 +161,7 @@ TEST(PdMeshMsh, Msh41BlocksWithGappedTagsAndParametricNodes) {
   // Two triangles on the unit square; tags 7, 10, 20, 35 (not contiguous), one node block parametric (a node on
   // a curve carries u), a line element and a point element to skip.
   const fs::path dir = scratch("pd_mesh_msh41_hand");
-  const std::string path = write_file(dir, "square41.msh", R"($MeshFormat
+  const std::string path = test::write_text_file(dir, "square41.msh", R"($MeshFormat
 4.1 0 8
 $EndMeshFormat
 $Entities
@@ -219,7 +208,7 @@ $EndElements
 
 TEST(PdMeshMsh, TetrahedraIn3DDropTheBoundaryTriangles) {
   const fs::path dir = scratch("pd_mesh_tet");
-  const std::string path = write_file(dir, "tet22.msh", R"($MeshFormat
+  const std::string path = test::write_text_file(dir, "tet22.msh", R"($MeshFormat
 2.2 0 8
 $EndMeshFormat
 $PhysicalNames
@@ -280,7 +269,7 @@ TEST(PdMeshMsh, ErrorsNameTheFileAndTheLine) {
        {"blocks hold 2 nodes", "line 5"}},
   };
   for (const Case& c : cases) {
-    const std::string path = write_file(dir, c.name, c.text);
+    const std::string path = test::write_text_file(dir, c.name, c.text);
     const std::string message = read_error(path);
     EXPECT_TRUE(contains(message, path)) << c.name << ": " << message;
     for (const std::string& part : c.expect) EXPECT_TRUE(contains(message, part)) << c.name << ": " << message;
@@ -363,7 +352,7 @@ TEST(PdMeshVolume, FirstMomentIsTheExactCentroid) {
 
 TEST(PdMeshVolume, NodeInNoElementIsAnError) {
   const fs::path dir = scratch("pd_mesh_orphan");
-  const std::string path = write_file(dir, "orphan.msh", R"($MeshFormat
+  const std::string path = test::write_text_file(dir, "orphan.msh", R"($MeshFormat
 2.2 0 8
 $EndMeshFormat
 $Nodes

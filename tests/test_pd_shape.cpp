@@ -16,6 +16,7 @@
 #include "core/io/gmsh_msh.hpp"
 #include "core/nodal_volume.hpp"
 #include "core/shape_mesh.hpp"
+#include "tests/cli_helpers.hpp"
 
 namespace debris {
 namespace {
@@ -25,12 +26,7 @@ namespace fs = std::filesystem;
 const std::string kData = std::string(DEBRIS_SOURCE_DIR) + "/scenarios/peridem/data";
 
 /// A scratch directory in the build tree (beside the test binary), emptied first so that Gmsh really runs.
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::path(DEBRIS_DEM_EXECUTABLE).parent_path().parent_path() / "test_scratch" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path scratch(const std::string& name) { return debris::test::fresh_directory("debris_pd_" + name); }
 
 GmshRun fresh_run(const std::string& name, int msh_version = 22) {
   GmshRun run;
