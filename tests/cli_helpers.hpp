@@ -1,6 +1,6 @@
 #pragma once
 // Helpers of the tests that run the real executables or write files: a command's exit status and output,
-// a fresh scratch directory under GoogleTest's temp dir, a small text file.
+// a fresh scratch directory under GoogleTest's temp dir, a small text file, a file's text, the frames an XDMF file lists.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 namespace debris::test {
@@ -41,6 +42,22 @@ inline std::string write_text_file(const std::filesystem::path& dir, const std::
   const std::filesystem::path path = dir / name;
   std::ofstream(path) << text;
   return path.string();
+}
+
+/// The whole file as text ("" when it cannot be read).
+inline std::string slurp(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// How many frames an XDMF trajectory lists (one <Time> per frame).
+inline int count_xmf_frames(const std::filesystem::path& xmf) {
+  const std::string x = slurp(xmf);
+  int frames = 0;
+  for (auto at = x.find("<Time "); at != std::string::npos; at = x.find("<Time ", at + 1)) ++frames;
+  return frames;
 }
 
 }  // namespace debris::test

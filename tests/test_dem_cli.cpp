@@ -65,12 +65,7 @@ fs::path write(const fs::path& dir, const std::string& name, const std::string& 
   return dir / name;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using debris::test::slurp;
 
 class DemCli : public ::testing::Test {
  protected:

@@ -340,12 +340,7 @@ Result run_input(const fs::path& dir, const std::string& yaml) {
   return run_patch("-i " + (dir / "in.yaml").string() + " -o " + (dir / "out").string() + " --threads 2");
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using debris::test::slurp;
 
 TEST(PatchCli, SmallSweepWritesTableCurvesAndPlots) {
   const fs::path dir = scratch("good");

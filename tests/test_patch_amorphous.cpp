@@ -161,12 +161,7 @@ std::string replace(std::string text, const std::string& from, const std::string
   return text;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using debris::test::slurp;
 
 TEST(PatchAmorphousCli, MakesTheSampleOnceAndReusesItFromTheCache) {
   const fs::path dir = scratch("good");

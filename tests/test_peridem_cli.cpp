@@ -91,12 +91,7 @@ fs::path write(const fs::path& dir, const std::string& name, const std::string& 
   return dir / name;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using debris::test::slurp;
 
 std::vector<double> csv_row(const std::string& line) {
   std::vector<double> v;
@@ -140,12 +135,6 @@ H5Data read_h5(hid_t file, const std::string& name, hid_t mem_type = H5T_NATIVE_
   return d;
 }
 
-std::size_t xmf_frames(const fs::path& xmf) {
-  const std::string x = slurp(xmf);
-  std::size_t frames = 0;
-  for (auto pos = x.find("<Time Value="); pos != std::string::npos; pos = x.find("<Time Value=", pos + 1)) ++frames;
-  return frames;
-}
 
 class PeridemCli : public ::testing::Test {
  protected:
@@ -195,7 +184,7 @@ TEST_F(PeridemCli, GoodInputWritesThermoAndTheTimePerPass) {
 // The node trajectory through the HDF5 C API: the frames the .xmf lists, each N x 3, the static node data,
 // and values the input set exactly (the top grain's initial velocity, the wall at rest, node volumes > 0).
 TEST_F(PeridemCli, TrajectoryReadsBackThroughTheHdf5CApi) {
-  ASSERT_EQ(xmf_frames(out / "trajectory.xmf"), 4u);
+  ASSERT_EQ(debris::test::count_xmf_frames(out / "trajectory.xmf"), 4u);
   const std::string xmf = slurp(out / "trajectory.xmf");
   for (const char* a : {"Name=\"damage\"", "Name=\"grain\"", "Name=\"velocity\"", "Name=\"volume\"", "Name=\"id\""})
     EXPECT_NE(xmf.find(a), std::string::npos) << a;

@@ -20,6 +20,7 @@
 
 #include "scenarios/common/peridem_input.hpp"
 #include "scenarios/common/peridem_simulation.hpp"
+#include "tests/cli_helpers.hpp"
 
 namespace debris {
 namespace {
@@ -28,12 +29,7 @@ namespace fs = std::filesystem;
 
 const std::string kScenarios = std::string(DEBRIS_SOURCE_DIR) + "/scenarios/peridem/";
 
-std::string slurp(const std::string& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using debris::test::slurp;
 
 std::string replace(std::string text, const std::string& from, const std::string& to) {
   const auto pos = text.find(from);

@@ -168,15 +168,6 @@ void killed_frame(long k, PdNodes& n) {
   }
 }
 
-int xmf_frames(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string x = ss.str();
-  int frames = 0;
-  for (auto at = x.find("<Time "); at != std::string::npos; at = x.find("<Time ", at + 1)) ++frames;
-  return frames;
-}
 
 // A child writes frames in a loop and is killed at different moments after its second frame was listed:
 // every frame its .xmf lists reads back whole (the writer commits a frame in two steps, then the .xmf).
@@ -210,14 +201,14 @@ TEST(PeridemRestart, KilledTrajectoryWriterLeavesEveryListedFrameReadable) {
       _exit(0);
     }
     const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-    while ((!fs::exists(xmf) || xmf_frames(xmf) < 2) && std::chrono::steady_clock::now() < give_up)
+    while ((!fs::exists(xmf) || debris::test::count_xmf_frames(xmf) < 2) && std::chrono::steady_clock::now() < give_up)
       std::this_thread::sleep_for(std::chrono::microseconds(200));
     std::this_thread::sleep_for(delay);
     kill(child, SIGKILL);
     int status = 0;
     ASSERT_EQ(waitpid(child, &status, 0), child);
     ASSERT_TRUE(WIFSIGNALED(status)) << "the writer ended by itself, status " << status;
-    const int frames = xmf_frames(xmf);
+    const int frames = debris::test::count_xmf_frames(xmf);
     ASSERT_GE(frames, 2);
     const h5::File f((dir / "nodes.h5").string(), h5::File::Mode::read_only);
     EXPECT_EQ(f.read<std::int64_t>("nodes/id").values.size(), 60u);

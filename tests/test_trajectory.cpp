@@ -33,12 +33,7 @@ namespace fs = std::filesystem;
 /// A fresh empty directory under the test temp dir.
 std::string fresh_dir(const std::string& name) { return debris::test::fresh_directory(name).string(); }
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using debris::test::slurp;
 
 // ---------------------------------------------------------------- the RAII wrapper on its own
 
@@ -437,12 +432,6 @@ Particles killed_frame(long k) {
   return p;
 }
 
-int xmf_frames(const std::string& path) {
-  const std::string x = slurp(path);
-  int n = 0;
-  for (std::size_t at = x.find("<Time "); at != std::string::npos; at = x.find("<Time ", at + 1)) ++n;
-  return n;
-}
 
 /// Forks a writer that loops over frames, kills it `delay` after it has listed `listed` frames, and
 /// checks that every frame its .xmf lists reads back from the .h5.
@@ -460,7 +449,7 @@ void kill_and_check(const std::string& dir, std::chrono::microseconds delay, int
     _exit(0);
   }
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while ((!fs::exists(xmf) || xmf_frames(xmf) < listed) && std::chrono::steady_clock::now() < give_up) {
+  while ((!fs::exists(xmf) || debris::test::count_xmf_frames(xmf) < listed) && std::chrono::steady_clock::now() < give_up) {
     std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
   std::this_thread::sleep_for(delay);
@@ -469,7 +458,7 @@ void kill_and_check(const std::string& dir, std::chrono::microseconds delay, int
   ASSERT_EQ(waitpid(child, &status, 0), child);
   ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL) << "the writer ended by itself, status " << status;
 
-  const int frames = xmf_frames(xmf);
+  const int frames = debris::test::count_xmf_frames(xmf);
   ASSERT_GE(frames, listed);
   const h5::File f(dir + "/run.h5", h5::File::Mode::read_only);
   for (long k = 0; k < frames; ++k) {
