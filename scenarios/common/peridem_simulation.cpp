@@ -206,11 +206,12 @@ void PeridemSimulation::compute_forces() {
   t0 = Clock::now();
   const long broke = pd_bond_step(lps_, grains_, bonds_, nodes_);
   times_.bonds += seconds_since(t0);
+  // Both callers hand over a list that is fresh for these positions (just built, or checked by step()), so
+  // only a broken bond makes it stale here: its two nodes may now touch (self-contact).
   if (broke > 0) {
     broken_total_ += broke;
-    list_.request_rebuild();  // the two nodes of a broken bond may now touch (self-contact)
+    rebuild_contacts();
   }
-  if (list_.needs_rebuild(nodes_)) rebuild_contacts();
   t0 = Clock::now();
   pd_contact_pass(table_, settings_.damping, nodes_, grains_, list_, work_, settings_.time_step);
   times_.contact += seconds_since(t0);
