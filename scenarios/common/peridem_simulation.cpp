@@ -286,7 +286,7 @@ PeridemDiagnostics PeridemSimulation::diagnostics() {
   }
   d.bond_energy = pd_elastic_energy(lps_, grains_, bonds_, nodes_);
   d.contact_energy = pd_contact_elastic_energy(table_, nodes_, grains_, list_);
-  pd_damage_pass(lps_, grains_, bonds_, nodes_);
+  refresh_damage();
   for (std::size_t i = 0; i < n; ++i) d.max_damage = std::max(d.max_damage, nodes_.damage[i]);
   d.broken_bonds = broken_total_;
   d.contact_pairs = touching_pairs();

@@ -83,7 +83,7 @@ TwoParticleDropResult run_two_particle_drop(const TwoParticleDrop& spec) {
     const long touching = sim.touching_pairs();
     if (touching > 0) {
       // Damage peaks during the impact (eq 14 measures the current stretch): track its maximum per grain.
-      sim.diagnostics();
+      sim.refresh_damage();
       for (int i = sim.grains().node_begin[gb]; i < sim.grains().node_end[gb]; ++i)
         r.bottom_max_damage = std::max(r.bottom_max_damage, sim.nodes().damage[i]);
       for (int i = sim.grains().node_begin[gt]; i < sim.grains().node_end[gt]; ++i)
