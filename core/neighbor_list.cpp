@@ -99,11 +99,18 @@ bool NeighborList::needs_rebuild(const BoxView& box, const Particles& p) const {
   const double* __restrict x0 = x0_.data();
   const double* __restrict y0 = y0_.data();
   const double* __restrict z0 = z0_.data();
-  const BoxView b = box;
+  const double lx = box.len[0], ly = box.len[1], lz = box.len[2];
+  const int px = box.periodic[0], py = box.periodic[1], pz = box.periodic[2];
   double max_d2 = 0.0;
+  // nearest_image instead of minimum_image: branch-free, so this vectorises (the floor() version cost 5%
+  // of a step). It is exact for drifts under 1.5 box lengths and never smaller than the true minimum
+  // image beyond, so it cannot miss a rebuild.
   DEBRIS_KERNEL_MAX(max_d2)
   for (int i = 0; i < n; ++i) {
-    const double d2 = norm2(minimum_image(b, Vec3{x[i] - x0[i], y[i] - y0[i], z[i] - z0[i]}));
+    const double dx = nearest_image(x[i] - x0[i], lx, px);
+    const double dy = nearest_image(y[i] - y0[i], ly, py);
+    const double dz = nearest_image(z[i] - z0[i], lz, pz);
+    const double d2 = dx * dx + dy * dy + dz * dz;
     max_d2 = d2 > max_d2 ? d2 : max_d2;
   }
   return max_d2 > half_skin * half_skin;
