@@ -15,15 +15,22 @@ namespace {
 
 struct PairInputs {
   const int *row, *col;
-  const double *mass;
   CohesiveCoefficients c;
   const double *x, *y, *z, *r, *vx, *vy, *vz, *wx, *wy, *wz;
   const CohesivePairTable *t;
   double *hx, *hy, *hz;
-  HalfPassScratch *out;
   BoxView box;
   double dt;
   int adhesive, tangential, update;
+};
+
+// Phase 1 results of at most kChunkPairs pairs: small enough to stay in L1 between the vector loop that
+// writes them and the scalar sweep that hands them out.
+constexpr int kChunkPairs = 256;
+struct ChunkBuffer {
+  alignas(64) double fx[kChunkPairs], fy[kChunkPairs], fz[kChunkPairs];
+  alignas(64) double tix[kChunkPairs], tiy[kChunkPairs], tiz[kChunkPairs];
+  alignas(64) double tjx[kChunkPairs], tjy[kChunkPairs], tjz[kChunkPairs];
 };
 
 // Phase 1 for pairs [k0, k1): eqs 2-5 exactly as in cohesive_pair_force(), made
@@ -31,7 +38,8 @@ struct PairInputs {
 // Compiled three times (x86-64, AVX2, AVX-512); the loader picks the best the
 // machine runs, so the default build still runs anywhere.
 __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4"))) void pair_chunk(const PairInputs &a,
-                                                                                              int k0, int k1) {
+                                                                                              int k0, int k1,
+                                                                                              ChunkBuffer &o) {
   const int *__restrict row = a.row;
   const int *__restrict col = a.col;
   const double *__restrict x = a.x, *__restrict y = a.y, *__restrict z = a.z, *__restrict r = a.r;
@@ -39,39 +47,49 @@ __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4"))) vo
   const double *__restrict wx = a.wx, *__restrict wy = a.wy, *__restrict wz = a.wz;
   const CohesivePairTable &t = *a.t;
   const double *__restrict df = t.delta_f.data();
-  const double *__restrict mass = a.mass;
+  const double *__restrict cn = t.c_n.data();
   const double E_an = a.c.E * a.c.area_n, area_t = a.c.area_t, strain_e = a.c.strain_e;
-  const double sigma_t = a.c.sigma_t, damping = a.c.damping;
+  const double sigma_t = a.c.sigma_t;
   double *__restrict hx = a.hx, *__restrict hy = a.hy, *__restrict hz = a.hz;
-  HalfPassScratch &o = *a.out;
-  double *__restrict fx = o.fx.data(), *__restrict fy = o.fy.data(), *__restrict fz = o.fz.data();
-  double *__restrict tix = o.tix.data(), *__restrict tiy = o.tiy.data(), *__restrict tiz = o.tiz.data();
-  double *__restrict tjx = o.tjx.data(), *__restrict tjy = o.tjy.data(), *__restrict tjz = o.tjz.data();
+  // Chunk-local results, slot q = k - k0.
+  double *__restrict fx = o.fx, *__restrict fy = o.fy, *__restrict fz = o.fz;
+  double *__restrict tix = o.tix, *__restrict tiy = o.tiy, *__restrict tiz = o.tiz;
+  double *__restrict tjx = o.tjx, *__restrict tjy = o.tjy, *__restrict tjz = o.tjz;
   const double lx = a.box.len[0], ly = a.box.len[1], lz = a.box.len[2];
   const int px = a.box.periodic[0], py = a.box.periodic[1], pz = a.box.periodic[2];
   const double dt = a.dt, kt_over_kn = t.kt_over_kn, ct_over_cn = t.ct_over_cn;
   const int adhesive = a.adhesive, update = a.update;
   const double tangential = a.tangential ? 1.0 : 0.0;
   DEBRIS_SIMD
-  for (int k = k0; k < k1; ++k) {
+  for (int q = 0; q < k1 - k0; ++q) {
+    const int k = k0 + q;
     const int i = row[k], j = col[k];
     const double dx = nearest_image(x[i] - x[j], lx, px);
     const double dy = nearest_image(y[i] - y[j], ly, py);
     const double dz = nearest_image(z[i] - z[j], lz, pz);
     const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
-    const double inv_d = 1.0 / d;
-    const double nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
-    const double ri = r[i], rj = r[j], radsum = ri + rj, inv_rs = 1.0 / radsum;
+    const double ri = r[i], rj = r[j], radsum = ri + rj;
     const double dn = d - radsum;
     // Eqs 7-17 for this pair (only delta_f, which may need pow, comes from the table).
     const double r_eff = ri < rj ? ri : rj, r2 = r_eff * r_eff;
-    const double kn_k = E_an * r2 * inv_rs;
     const double de_k = radsum * strain_e;
     const double df_k = df[k];
-    const double ks_k = df_k > de_k ? kn_k * de_k / (df_k - de_k) : 0.0;
+    // The four reciprocals this pair needs from one division (the divider, not the arithmetic, limited
+    // this loop): 1/a_m = (product of the others) / (product of all). Exact to a few ulp; the product
+    // stays far inside double range for any physical units (lengths within 1e+-70).
+    const double gap = df_k > de_k ? df_k - de_k : 1.0, df_safe = df_k > 0.0 ? df_k : 1.0;
+    const double p_dr = d * radsum, p_drg = p_dr * gap;
+    const double s_gf = gap * df_safe;
+    const double inv_all = 1.0 / (p_drg * df_safe);
+    const double inv_d = inv_all * (radsum * s_gf);
+    const double inv_rs = inv_all * (d * s_gf);
+    const double inv_gap = inv_all * (p_dr * df_safe);
+    const double inv_df = inv_all * p_drg;
+    const double nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
+    const double kn_k = E_an * r2 * inv_rs;
+    const double ks_k = df_k > de_k ? kn_k * de_k * inv_gap : 0.0;
     const double fmt_k = area_t * r2 * sigma_t;
-    const double mi = mass[i], mj = mass[j];
-    const double cn_k = damping * std::sqrt(kn_k * (mi * mj / (mi + mj)));
+    const double cn_k = cn[k];
     const bool on = dn <= (adhesive ? df_k : 0.0);
 
     // Eq 3 (positive in tension) and the normal part of eq 2.
@@ -98,7 +116,7 @@ __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4"))) vo
     const double h_y = update ? keep * hpy + dt * vty : h0y;
     const double h_z = update ? keep * hpz + dt * vtz : h0z;
     const double k_t = kt_over_kn * kn_k;
-    const double share = (df_k - dn) / df_k;
+    const double share = (df_k - dn) * inv_df;
     const double cap = (share < 1.0 ? share : 1.0) * fmt_k;
     const double spring = k_t * std::sqrt(h_x * h_x + h_y * h_y + h_z * h_z);
     const double slide = spring > cap ? cap / (spring > 0.0 ? spring : 1.0) : 1.0;
@@ -112,18 +130,18 @@ __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4"))) vo
     hy[k] = stays * h_y;
     hz[k] = stays * h_z;
 
-    fx[k] = fnorm * nx + ftx;
-    fy[k] = fnorm * ny + fty;
-    fz[k] = fnorm * nz + ftz;
+    fx[q] = fnorm * nx + ftx;
+    fy[q] = fnorm * ny + fty;
+    fz[q] = fnorm * nz + ftz;
     // Torques -a n x F_t on both particles (n points from j to i; j sees -n and
     // -F_t).
     const double cx = ny * ftz - nz * fty, cy = nz * ftx - nx * ftz, cz = nx * fty - ny * ftx;
-    tix[k] = -a_i * cx;
-    tiy[k] = -a_i * cy;
-    tiz[k] = -a_i * cz;
-    tjx[k] = -a_j * cx;
-    tjy[k] = -a_j * cy;
-    tjz[k] = -a_j * cz;
+    tix[q] = -a_i * cx;
+    tiy[q] = -a_i * cy;
+    tiz[q] = -a_i * cz;
+    tjx[q] = -a_j * cx;
+    tjy[q] = -a_j * cy;
+    tjz[q] = -a_j * cz;
   }
 }
 
@@ -136,20 +154,24 @@ void HalfPassScratch::index(const NeighborList &list) {
   row_of.resize(static_cast<std::size_t>(m));
   for (int i = 0; i < n; ++i)
     for (int k = offset[i]; k < offset[i + 1]; ++k) row_of[static_cast<std::size_t>(k)] = i;
-  // Counting sort of the pairs by partner; pairs of one partner stay in
-  // increasing k.
+  // Counting sort of the pairs by partner; the pairs of one partner keep increasing k.
   in_offset.assign(static_cast<std::size_t>(n) + 1, 0);
   for (int k = 0; k < m; ++k) ++in_offset[static_cast<std::size_t>(col[k]) + 1];
   for (int j = 0; j < n; ++j) in_offset[static_cast<std::size_t>(j) + 1] += in_offset[static_cast<std::size_t>(j)];
   in_entry.resize(static_cast<std::size_t>(m));
   std::vector<int> fill(in_offset.begin(), in_offset.end() - 1);
   for (int k = 0; k < m; ++k) in_entry[static_cast<std::size_t>(fill[static_cast<std::size_t>(col[k])]++)] = k;
-  for (auto *v : {&fx, &fy, &fz, &tix, &tiy, &tiz, &tjx, &tjy, &tjz}) v->resize(static_cast<std::size_t>(m));
+  partner.resize(static_cast<std::size_t>(kShareStride) * static_cast<std::size_t>(m));
+  // Row blocks of about kBlockPairs pairs, whole rows each, so a row's own sum is made by one thread.
+  block_row.assign(1, 0);
+  for (int i = 0; i < n; ++i)
+    if (offset[i + 1] - offset[block_row.back()] >= kBlockPairs) block_row.push_back(i + 1);
+  if (block_row.back() != n) block_row.push_back(n);
 }
 
 std::size_t HalfPassScratch::bytes() const {
-  return sizeof(int) * (row_of.capacity() + in_offset.capacity() + in_entry.capacity()) +
-         9 * sizeof(double) * fx.capacity();
+  return sizeof(int) * (row_of.capacity() + in_offset.capacity() + in_entry.capacity() + block_row.capacity()) +
+         sizeof(double) * partner.capacity();
 }
 
 void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOptions &opt, const BoxView &box,
@@ -158,10 +180,9 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
   if (list.kind() != NeighborKind::half) throw std::logic_error("cohesive_contact_pass_half needs a half list");
   if (s.row_of.size() != static_cast<std::size_t>(list.entries()))
     throw std::logic_error("cohesive_contact_pass_half: scratch not indexed for this list");
-  const int n = list.rows(), m = list.entries();
+  const int n = list.rows();
   const PairInputs in{s.row_of.data(),
                       list.index().data(),
-                      p.mass.data(),
                       table.coefficients,
                       p.x.data(),
                       p.y.data(),
@@ -177,59 +198,96 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
                       history.hx.data(),
                       history.hy.data(),
                       history.hz.data(),
-                      &s,
                       box,
                       dt,
                       opt.adhesive,
                       opt.tangential,
                       update_history};
 
-  constexpr int chunk = 512;
-  const int chunks = (m + chunk - 1) / chunk;
+  constexpr int kShareStride = HalfPassScratch::kShareStride;
+  const int blocks = static_cast<int>(s.block_row.size()) - 1;
+  const int *__restrict block_row = s.block_row.data();
   const int *__restrict offset = list.offset().data();
-  const int *__restrict in_offset = s.in_offset.data();
+  const int *__restrict row = s.row_of.data();
   const int *__restrict in_entry = s.in_entry.data();
-  const double *__restrict Fx = s.fx.data(), *__restrict Fy = s.fy.data(), *__restrict Fz = s.fz.data();
-  const double *__restrict Tix = s.tix.data(), *__restrict Tiy = s.tiy.data(), *__restrict Tiz = s.tiz.data();
-  const double *__restrict Tjx = s.tjx.data(), *__restrict Tjy = s.tjy.data(), *__restrict Tjz = s.tjz.data();
+  const int *__restrict in_offset = s.in_offset.data();
+  double *__restrict partner = s.partner.data();
   double *__restrict fx = p.fx.data(), *__restrict fy = p.fy.data(), *__restrict fz = p.fz.data();
   double *__restrict tx = p.tx.data(), *__restrict ty = p.ty.data(), *__restrict tz = p.tz.data();
-  // Host threads only (this is the host pass; offload builds use the full-list
-  // pass): both phases in one parallel region, the loop barrier between them.
+  // Host threads only (this is the host pass; offload builds use the full-list pass): both phases in one
+  // parallel region, the loop barrier between them.
   DEBRIS_HOST_PARALLEL {
-    // Phase 1: pairs in chunks (one call per chunk; the chunk loop is the
-    // vector loop).
+    ChunkBuffer c;  // per thread, on its stack
+    // Phase 1: blocks of whole rows; each in chunks (the chunk loop is the vector loop), after which the
+    // row's own share is summed on the spot (in increasing k, carried across chunks) and the partner's
+    // share is filed at the pair's index.
     DEBRIS_HOST_FOR
-    for (int c = 0; c < chunks; ++c) pair_chunk(in, c * chunk, std::min(m, (c + 1) * chunk));
+    for (int b = 0; b < blocks; ++b) {
+      const int k_end = offset[block_row[b + 1]];
+      int cur = -1;
+      double sfx = 0, sfy = 0, sfz = 0, stx = 0, sty = 0, stz = 0;
+      for (int k0 = offset[block_row[b]]; k0 < k_end; k0 += kChunkPairs) {
+        const int k1 = std::min(k_end, k0 + kChunkPairs);
+        pair_chunk(in, k0, k1, c);
+        for (int k = k0; k < k1; ++k) {
+          const int q = k - k0, i = row[k];
+          if (i != cur) {
+            if (cur >= 0) {
+              fx[cur] += sfx;
+              fy[cur] += sfy;
+              fz[cur] += sfz;
+              tx[cur] += stx;
+              ty[cur] += sty;
+              tz[cur] += stz;
+            }
+            cur = i;
+            sfx = sfy = sfz = stx = sty = stz = 0;
+          }
+          sfx += c.fx[q];
+          sfy += c.fy[q];
+          sfz += c.fz[q];
+          stx += c.tix[q];
+          sty += c.tiy[q];
+          stz += c.tiz[q];
+          double *share_k = partner + static_cast<std::ptrdiff_t>(kShareStride) * k;
+          share_k[0] = c.fx[q];
+          share_k[1] = c.fy[q];
+          share_k[2] = c.fz[q];
+          share_k[3] = c.tjx[q];
+          share_k[4] = c.tjy[q];
+          share_k[5] = c.tjz[q];
+        }
+      }
+      if (cur >= 0) {
+        fx[cur] += sfx;
+        fy[cur] += sfy;
+        fz[cur] += sfz;
+        tx[cur] += stx;
+        ty[cur] += sty;
+        tz[cur] += stz;
+      }
+    }
 
-    // Phase 2: each particle gathers its pairs, own first, then as a partner,
-    // in increasing pair order.
+    // Phase 2: each particle adds the shares filed for it (pairs where it is the partner, in increasing k)
+    // to its own share.
     DEBRIS_HOST_FOR
     for (int i = 0; i < n; ++i) {
-      double sfx = 0, sfy = 0, sfz = 0, stx = 0, sty = 0, stz = 0;
-      for (int k = offset[i]; k < offset[i + 1]; ++k) {
-        sfx += Fx[k];
-        sfy += Fy[k];
-        sfz += Fz[k];
-        stx += Tix[k];
-        sty += Tiy[k];
-        stz += Tiz[k];
-      }
+      double sfx = fx[i], sfy = fy[i], sfz = fz[i], stx = tx[i], sty = ty[i], stz = tz[i];
       for (int e = in_offset[i]; e < in_offset[i + 1]; ++e) {
-        const int k = in_entry[e];
-        sfx -= Fx[k];
-        sfy -= Fy[k];
-        sfz -= Fz[k];
-        stx += Tjx[k];
-        sty += Tjy[k];
-        stz += Tjz[k];
+        const double *share_e = partner + static_cast<std::ptrdiff_t>(kShareStride) * in_entry[e];
+        sfx -= share_e[0];
+        sfy -= share_e[1];
+        sfz -= share_e[2];
+        stx += share_e[3];
+        sty += share_e[4];
+        stz += share_e[5];
       }
-      fx[i] += sfx;
-      fy[i] += sfy;
-      fz[i] += sfz;
-      tx[i] += stx;
-      ty[i] += sty;
-      tz[i] += stz;
+      fx[i] = sfx;
+      fy[i] = sfy;
+      fz[i] = sfz;
+      tx[i] = stx;
+      ty[i] = sty;
+      tz[i] = stz;
     }
   }
 }

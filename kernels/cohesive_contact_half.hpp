@@ -1,14 +1,16 @@
 #pragma once
-// The cohesive contact pass for host threads: eqs 2-5 over a half neighbour list (each pair evaluated once)
-// (delta_f per pair from CohesivePairTable, the other constants of eqs 7-17 computed in the loop), in two
-// phases:
-//   1. over all pairs, flat: the force and both torques of pair k go to per-pair arrays. No pair writes to a
-//      particle, so the loop vectorises (built for x86-64, AVX2 and AVX-512, picked at run time);
-//   2. over particles: each sums its own pairs, then the pairs where it is the partner (a transposed index
-//      built with the list), in a fixed order.
-// No atomics, no per-thread buffers, and the sum order does not depend on the thread count, so results are
-// the same bit for bit on 1 or 2 threads. Host threads only: the full-list pass (kernels/cohesive_contact.hpp)
-// is the GPU path, and the reference this one is tested against.
+// The cohesive contact pass for host threads: eqs 2-5 over a half neighbour list (each pair evaluated once;
+// delta_f and c_N per pair from CohesivePairTable, the other constants of eqs 7-17 computed in the loop), in
+// two phases:
+//   1. over blocks of whole rows, in chunks of pairs: a flat vector loop (no pair writes to a particle; built
+//      for x86-64, AVX2 and AVX-512, picked at run time) computes each pair's force and both torques into a
+//      small per-thread buffer; a scalar sweep then adds the row particle's share to its force and torque,
+//      in increasing pair order, and files the partner's share (6 doubles) at the pair's index;
+//   2. over particles: each adds the shares filed for it, through a transposed index built with the list,
+//      in increasing pair order.
+// No atomics, and the sum order does not depend on the thread count, so results are the same bit for bit
+// on 1 or 2 threads. Host threads only: the full-list pass (kernels/cohesive_contact.hpp) is the GPU path,
+// and the reference this one is tested against.
 #include <vector>
 
 #include "core/box.hpp"
@@ -21,14 +23,17 @@ class Particles;
 class NeighborList;
 class ContactHistory;
 
-/// Per-pair results of phase 1 and the transposed index for phase 2, sized with the list.
+/// The partners' shares filed by phase 1 for phase 2, and the indices that place them, sized with the list.
 struct HalfPassScratch {
-  std::vector<int> row_of;     // i of each pair k
-  std::vector<int> in_offset;  // pairs where particle j is the partner: in_entry[in_offset[j] .. in_offset[j+1])
-  std::vector<int> in_entry;
-  std::vector<double> fx, fy, fz, tix, tiy, tiz, tjx, tjy, tjz;  // force on i, torques on i and on j
+  static constexpr int kShareStride = 6;   // force on i (the partner gets its negative), torque on j
+  static constexpr int kBlockPairs = 1024; // phase-1 work unit: whole rows, about this many pairs
+  std::vector<int> row_of;      // i of each pair k
+  std::vector<int> in_offset;   // pairs where particle j is the partner: in_entry[in_offset[j] .. in_offset[j+1])
+  std::vector<int> in_entry;    // ... in increasing k
+  std::vector<double> partner;  // kShareStride doubles per pair k
+  std::vector<int> block_row;   // phase-1 blocks: rows block_row[b] .. block_row[b+1]
 
-  /// Rebuilds row_of and the transposed index (after every list rebuild).
+  /// Rebuilds the indices (after every list rebuild).
   void index(const NeighborList& list);
   std::size_t bytes() const;
 };

@@ -10,6 +10,7 @@ namespace debris {
 
 void CohesivePairTable::build(const CohesiveCoefficients& c, const Particles& p, const NeighborList& list) {
   delta_f.resize(static_cast<std::size_t>(list.entries()));
+  c_n.resize(static_cast<std::size_t>(list.entries()));
   coefficients = c;
   kt_over_kn = c.area_t / c.area_n;
   ct_over_cn = std::sqrt(kt_over_kn);
@@ -17,11 +18,17 @@ void CohesivePairTable::build(const CohesiveCoefficients& c, const Particles& p,
   const int* offset = list.offset().data();
   const int* index = list.index().data();
   const double* radius = p.radius.data();
+  const double* mass = p.mass.data();
   double* df = delta_f.data();
+  double* cn = c_n.data();
   const CohesiveCoefficients coef = c;
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i)
-    for (int k = offset[i]; k < offset[i + 1]; ++k) df[k] = cohesive_delta_f(coef, radius[i] + radius[index[k]]);
+    for (int k = offset[i]; k < offset[i + 1]; ++k) {
+      const int j = index[k];
+      df[k] = cohesive_delta_f(coef, radius[i] + radius[j]);
+      cn[k] = cohesive_pair_params(coef, radius[i], radius[j], mass[i], mass[j]).c_n;
+    }
 }
 
 }  // namespace debris

@@ -1,8 +1,10 @@
 #pragma once
-// Per-pair data of the cohesive law kept with the neighbour list, for the host pass: delta_f of eq 10,
-// which for d > d_c and s other than 0 needs a pow, computed once per rebuild. The other constants of
-// eqs 7-17 are cheaper to recompute in the vectorised pair loop than to stream from memory (measured: the
-// host pass went from 4.2 to 5.3 M particles/s at N = 256,000 when an 8-double table became this one).
+// Per-pair data of the cohesive law kept with the neighbour list, for the host pass, computed once per
+// rebuild: delta_f of eq 10 (for d > d_c and s other than 0 it needs a pow) and c_N of eq 12 (a square root,
+// a division and two mass gathers per pair in the loop; streaming it made a step 8% faster at N = 32,000 on
+// Sapphire Rapids). The other constants of eqs 7-17 are cheaper to recompute in the vectorised pair loop than
+// to stream from memory (measured: an 8-double table was slower at N = 256,000 on AMD Zen 4, and a 6-double
+// one no faster than these two on Sapphire Rapids, 11% slower at N = 256,000).
 // Recomputed whenever the list, the masses or the material change.
 #include <vector>
 
@@ -15,12 +17,13 @@ class NeighborList;
 
 struct CohesivePairTable {
   std::vector<double> delta_f;          // eq 10, per neighbour-list entry
+  std::vector<double> c_n;              // eq 12 (normal damping coefficient), per entry
   CohesiveCoefficients coefficients{};  // the material constants of eqs 7-18
   double kt_over_kn = 0;                // k_T / k_N = A_T / A_N, the same for every pair (eqs 7-8, 15-16)
   double ct_over_cn = 0;                // c_T / c_N = sqrt(k_T / k_N) (eqs 12-13)
 
   void build(const CohesiveCoefficients& c, const Particles& p, const NeighborList& list);
-  std::size_t bytes() const { return sizeof(double) * delta_f.capacity(); }
+  std::size_t bytes() const { return sizeof(double) * (delta_f.capacity() + c_n.capacity()); }
 };
 
 }  // namespace debris
