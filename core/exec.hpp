@@ -32,7 +32,7 @@
 #define DEBRIS_KERNEL_SUM(v) DEBRIS_PRAGMA(omp parallel for schedule(static) reduction(+ : v))
 #define DEBRIS_KERNEL_SUM2(a, b) DEBRIS_PRAGMA(omp parallel for schedule(static) reduction(+ : a, b))
 #define DEBRIS_KERNEL_SUM3(a, b, c) DEBRIS_PRAGMA(omp parallel for schedule(static) reduction(+ : a, b, c))
-#define DEBRIS_KERNEL_MAX(v) DEBRIS_PRAGMA(omp parallel for schedule(static) reduction(max : v))
+#define DEBRIS_KERNEL_MAX(v) DEBRIS_PRAGMA(omp parallel for simd schedule(static) reduction(max : v))
 #define DEBRIS_KERNEL_MIN(v) DEBRIS_PRAGMA(omp parallel for schedule(static) reduction(min : v))
 #define DEBRIS_DECLARE_TARGET
 #define DEBRIS_END_DECLARE_TARGET
