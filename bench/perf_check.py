@@ -21,11 +21,13 @@ default (--clock cpu) and the real-time one is printed beside it; --clock real m
 decide (right on a quiet machine). Both are stored in the baseline. "cv" is the coefficient of variation
 of the benchmark's real-time items/s over the repetitions: a large one says the machine was busy.
 
-Refreshing the baseline (bench/perf_baseline.json) is done on purpose, never automatically: after an
-intended change of speed (a faster kernel: tighten; an accepted slowdown: say why), after changing
-BM_ReferenceLoop, the benchmark system or SUBSET, or when CI moves to another kind of CPU (the ratio of a
-pair kernel to a triad and a sqrt chain depends on the microarchitecture and on the compiler). Run, from
-the repository root, on the machine kind CI uses and with the machine otherwise as quiet as it can be:
+The baseline file (bench/perf_baseline.json) holds one baseline per kind of CPU (model name and x86-64
+level: the ratio of a pair kernel to a triad and a sqrt chain depends on the microarchitecture and on the
+compiler). A machine of a kind the file does not have is skipped with a message, not judged. Refreshing is
+done on purpose, never automatically: after an intended change of speed (a faster kernel: tighten; an
+accepted slowdown: say why), after changing BM_ReferenceLoop, the benchmark system or SUBSET, or to add a
+kind of CPU CI now runs on. --update replaces this kind's entry and keeps the others. Run, from the
+repository root, on the machine kind in question and with the machine otherwise as quiet as it can be:
 
     python3 bench/perf_check.py --bench build/bin/debris_bench --update
 
@@ -145,6 +147,25 @@ def isa_level():
     return "x86-64"
 
 
+def baseline_entries(document):
+    """The per-CPU-kind baselines of a baseline file; a file of the first format (one baseline at the top
+    level) reads as a list of one."""
+    if not isinstance(document, dict):
+        raise ValueError("the top level is not an object")
+    entries = document["baselines"] if "baselines" in document else ([document] if "ratios" in document else [])
+    if not isinstance(entries, list):
+        raise ValueError("'baselines' is not a list")
+    for k, e in enumerate(entries):
+        if not isinstance(e, dict) or not isinstance(e.get("recorded", {}), dict):
+            raise ValueError("baseline %d is not an object with a 'recorded' object" % k)
+    return entries
+
+
+def kind_of(entry):
+    rec = entry.get("recorded", {})
+    return (rec.get("cpu"), rec.get("isa"))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  epilog="See the comment at the top of this file for when and how to refresh "
@@ -168,27 +189,34 @@ def main():
     if args.repetitions < 1:
         fail(2, "--repetitions must be >= 1")
 
-    baseline = None
+    here = (cpu_model(), isa_level())
+    entries = []
+    try:
+        with open(args.baseline) as f:
+            entries = baseline_entries(json.load(f))
+    except OSError:
+        if not args.update:
+            fail(2, "cannot read the baseline %s; create it with --update" % args.baseline)
+    except (ValueError, KeyError, TypeError) as e:
+        fail(2, "cannot parse the baseline %s (%s); fix or remove it (--update then writes a new one; it never "
+                "overwrites a file it cannot read, which may hold other CPU kinds' baselines)" % (args.baseline, e))
     if not args.update:
-        try:
-            with open(args.baseline) as f:
-                baseline = json.load(f)
-            base_ratios = baseline["ratios" if args.clock == "real" else "cpu_time_ratios"]
-        except (OSError, ValueError, KeyError) as e:
-            fail(2, "cannot read the baseline %s (%s); create it with --update" % (args.baseline, e))
+        # A kernel's speed relative to the reference loop depends on the CPU (and on which vector clone it
+        # runs), so each baseline only judges machines of the kind it was recorded on.
+        baseline = next((e for e in entries if kind_of(e) == here), None)
+        if baseline is None:
+            kinds = "; ".join("%s (%s)" % kind_of(e) for e in entries) or "none"
+            print("perf_check: skipped: no baseline for this kind of CPU, %s (%s); the file has: %s. Ratios are "
+                  "not comparable across CPU kinds. Record one on this kind with --update." % (here[0], here[1],
+                                                                                             kinds))
+            return 0
         if baseline.get("reference", REFERENCE) != REFERENCE:
             fail(2, "the baseline was measured against %s, not %s: refresh it with --update"
                  % (baseline.get("reference"), REFERENCE))
-        # A kernel's speed relative to the reference loop depends on the CPU (and on which vector clone it
-        # runs), so a baseline only judges machines of the kind it was recorded on.
-        rec = baseline.get("recorded", {})
-        here = (cpu_model(), isa_level())
-        there = (rec.get("cpu"), rec.get("isa"))
-        if here != there:
-            print("perf_check: skipped: the baseline was recorded on %s (%s), this machine is %s (%s); ratios are "
-                  "not comparable across CPU kinds. Record a baseline on this kind with --update."
-                  % (there[0], there[1], here[0], here[1]))
-            return 0
+        try:
+            base_ratios = baseline["ratios" if args.clock == "real" else "cpu_time_ratios"]
+        except KeyError as e:
+            fail(2, "the baseline for this CPU kind has no %s; refresh it with --update" % e)
 
     medians, cvs, cpu_rates, context = run_benchmarks(args.bench, args.repetitions, args.min_time, args.timeout)
     ref = medians[REFERENCE]
@@ -203,10 +231,7 @@ def main():
     print("reference %s: median %.4g items/s (cv %.1f%%)" % (REFERENCE, ref, 100 * cvs.get(REFERENCE, float("nan"))))
 
     if args.update:
-        baseline = {
-            "_comment": "ratios: (median items/s) / (median items/s of the reference), real time; cpu_time_ratios: "
-                        "the same in items per CPU-second (what decides by default). Measured in one run by "
-                        "bench/perf_check.py --update. Refresh on purpose only; see the top of perf_check.py.",
+        entry = {
             "reference": REFERENCE,
             "ratios": ratios,
             "cpu_time_ratios": cpu_ratios,
@@ -225,8 +250,17 @@ def main():
                 "cv_items_per_second": {n: cvs.get(n) for n in SUBSET + [REFERENCE]},
             },
         }
+        # This CPU kind's entry is replaced; the other kinds' entries are kept.
+        kept = [e for e in entries if kind_of(e) != here]
+        document = {
+            "_comment": "One baseline per CPU kind (cpu model and x86-64 level). ratios: (median items/s) / "
+                        "(median items/s of the reference), real time; cpu_time_ratios: the same in items per "
+                        "CPU-second (what decides by default). Each measured in one run by bench/perf_check.py "
+                        "--update. Refresh on purpose only; see the top of perf_check.py.",
+            "baselines": kept + [entry],
+        }
         with open(args.baseline, "w") as f:
-            json.dump(baseline, f, indent=2, sort_keys=False)
+            json.dump(document, f, indent=2, sort_keys=False)
             f.write("\n")
         print("%-46s %12s %8s %12s" % ("benchmark", "ratio", "cv", "cpu ratio"))
         for n in SUBSET:
