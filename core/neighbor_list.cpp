@@ -20,6 +20,20 @@ double NeighborList::max_radius(const Particles& p) {
   return r_max;
 }
 
+bool NeighborList::inside_periodic_box(const BoxView& box, const Particles& p) {
+  const int n = static_cast<int>(p.size());
+  const double* __restrict c[3] = {p.x.data(), p.y.data(), p.z.data()};
+  int outside = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (!box.periodic[a]) continue;
+    const double* __restrict u = c[a];
+    const double lo = box.lo[a], hi = box.lo[a] + box.len[a];
+    DEBRIS_KERNEL_SUM(outside)
+    for (int i = 0; i < n; ++i) outside += (u[i] < lo) | (u[i] > hi);
+  }
+  return outside == 0;
+}
+
 void NeighborList::check(const BoxView& box, const Particles& p, double max_cutoff, double skin,
                          double r_max_cutoff) const {
   if (!(std::isfinite(max_cutoff) && max_cutoff > 0))

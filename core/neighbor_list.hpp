@@ -37,32 +37,38 @@ inline int neighbor_stencil(int c, int nc, int periodic, int* out) {
   return k;
 }
 
-/// Scans the stencil around particle i; writes its neighbours to out (when not null) in stencil order,
-/// then cell order, and returns how many there are. half != 0 keeps only j > i.
-template <class Cutoff>
-inline int neighbor_row(int i, const double* x, const double* y, const double* z, const double* r,
-                        const int* cell_of, const int* cell_start, const int* sorted, int n0, int n1, int n2,
-                        const BoxView& b, Cutoff cutoff, double skin, int half, int* out) {
-  const double xi = x[i], yi = y[i], zi = z[i], ri = r[i];
-  const int ci = cell_of[i];
+/// The cells of one stencil: for each axis, the cells visited and how many.
+struct Stencil {
   int sx[3], sy[3], sz[3];
-  const int nsx = neighbor_stencil(ci % n0, n0, b.periodic[0], sx);
-  const int nsy = neighbor_stencil((ci / n0) % n1, n1, b.periodic[1], sy);
-  const int nsz = neighbor_stencil(ci / (n0 * n1), n2, b.periodic[2], sz);
+  int nsx, nsy, nsz;
+};
+
+/// neighbor_row's loop over the stencil. Image = false skips the minimum-image arithmetic (half of the
+/// scan's cost), which is exact where no stencil cell lies across a periodic boundary.
+template <bool Image, class Cutoff>
+inline int neighbor_scan(int i, const double* x, const double* y, const double* z, const double* r,
+                         const int* cell_start, const int* sorted, int n0, int n1, const Stencil& st,
+                         const BoxView& b, Cutoff cutoff, double skin, double reach2, int half, int* out) {
+  const double xi = x[i], yi = y[i], zi = z[i], ri = r[i];
+  const double lx = b.len[0], ly = b.len[1], lz = b.len[2];
+  const int px = b.periodic[0], py = b.periodic[1], pz = b.periodic[2];
   int count = 0;
-  for (int a = 0; a < nsz; ++a) {
-    for (int bb = 0; bb < nsy; ++bb) {
-      for (int c = 0; c < nsx; ++c) {
-        const int cell = sx[c] + n0 * (sy[bb] + n1 * sz[a]);
+  for (int a = 0; a < st.nsz; ++a) {
+    for (int bb = 0; bb < st.nsy; ++bb) {
+      for (int c = 0; c < st.nsx; ++c) {
+        const int cell = st.sx[c] + n0 * (st.sy[bb] + n1 * st.sz[a]);
         const int end = cell_start[cell + 1];
         for (int k = cell_start[cell]; k < end; ++k) {
           const int j = sorted[k];
-          if (j == i || (half && j < i)) continue;
           // Positions are wrapped at a build, so separations are below one box length: no floor() needed.
-          const Vec3 d{nearest_image(xi - x[j], b.len[0], b.periodic[0]), nearest_image(yi - y[j], b.len[1], b.periodic[1]),
-                       nearest_image(zi - z[j], b.len[2], b.periodic[2])};
+          const double dx = Image ? nearest_image(xi - x[j], lx, px) : xi - x[j];
+          const double dy = Image ? nearest_image(yi - y[j], ly, py) : yi - y[j];
+          const double dz = Image ? nearest_image(zi - z[j], lz, pz) : zi - z[j];
+          const double d2 = dx * dx + dy * dy + dz * dz;
+          // reach2 = (max_cutoff + skin)^2 bounds every pair's cutoff: most candidates stop here.
+          if (d2 >= reach2 || j == i || (half && j < i)) continue;
           const double rc = cutoff(ri, r[j]) + skin;
-          if (norm2(d) < rc * rc) {
+          if (d2 < rc * rc) {
             if (out) out[count] = j;
             ++count;
           }
@@ -71,6 +77,30 @@ inline int neighbor_row(int i, const double* x, const double* y, const double* z
     }
   }
   return count;
+}
+
+/// Scans the stencil around particle i; writes its neighbours to out (when not null) in stencil order,
+/// then cell order, and returns how many there are. half != 0 keeps only j > i. wrapped != 0 promises
+/// that every coordinate on a periodic axis lies in [lo, lo + len].
+template <class Cutoff>
+inline int neighbor_row(int i, const double* x, const double* y, const double* z, const double* r,
+                        const int* cell_of, const int* cell_start, const int* sorted, int n0, int n1, int n2,
+                        const BoxView& b, Cutoff cutoff, double skin, double reach2, int half, int wrapped,
+                        int* out) {
+  const int ci = cell_of[i];
+  const int cx = ci % n0, cy = (ci / n0) % n1, cz = ci / (n0 * n1);
+  Stencil st;
+  st.nsx = neighbor_stencil(cx, n0, b.periodic[0], st.sx);
+  st.nsy = neighbor_stencil(cy, n1, b.periodic[1], st.sy);
+  st.nsz = neighbor_stencil(cz, n2, b.periodic[2], st.sz);
+  // Away from periodic boundaries (most particles) the plain difference is the minimum image of every
+  // pair within reach, provided all positions lie inside the box on its periodic axes (wrapped != 0):
+  // cells are at least max_cutoff + skin wide, and an axis with 3 or more of them puts any image across
+  // the boundary at least one cell width away.
+  auto inside = [](int c, int nc, int periodic) { return !periodic || (nc >= 3 && c > 0 && c < nc - 1); };
+  if (wrapped && inside(cx, n0, b.periodic[0]) && inside(cy, n1, b.periodic[1]) && inside(cz, n2, b.periodic[2]))
+    return neighbor_scan<false>(i, x, y, z, r, cell_start, sorted, n0, n1, st, b, cutoff, skin, reach2, half, out);
+  return neighbor_scan<true>(i, x, y, z, r, cell_start, sorted, n0, n1, st, b, cutoff, skin, reach2, half, out);
 }
 
 DEBRIS_END_DECLARE_TARGET
@@ -105,6 +135,8 @@ class NeighborList {
   Saved save() const;
   void restore(Saved s);
 
+  /// True when every coordinate on a periodic axis lies in [lo, lo + len] (as after Box::wrap).
+  static bool inside_periodic_box(const BoxView& box, const Particles& p);
   int rows() const { return rows_; }
   const std::vector<int>& offset() const { return offset_; }  // size rows() + 1
   const std::vector<int>& index() const { return index_; }    // neighbour indices
@@ -152,17 +184,21 @@ void NeighborList::build(const BoxView& box, const Particles& p, Cutoff cutoff, 
   const int n0 = dims[0], n1 = dims[1], n2 = dims[2];
   const BoxView b = box;
   const int half = kind == NeighborKind::half ? 1 : 0;
+  const double reach2 = (max_cutoff + skin) * (max_cutoff + skin);
+  const int wrapped = inside_periodic_box(box, p) ? 1 : 0;
   int* __restrict off = offset_.data();
 
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
-    off[i + 1] = neighbor_row(i, x, y, z, r, cell_of, cell_start, sorted, n0, n1, n2, b, cutoff, skin, half, nullptr);
+    off[i + 1] = neighbor_row(i, x, y, z, r, cell_of, cell_start, sorted, n0, n1, n2, b, cutoff, skin, reach2, half,
+                               wrapped, nullptr);
   }
   index_.resize(static_cast<std::size_t>(prefix_sum()));
   int* __restrict idx = index_.data();
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
-    neighbor_row(i, x, y, z, r, cell_of, cell_start, sorted, n0, n1, n2, b, cutoff, skin, half, idx + off[i]);
+    neighbor_row(i, x, y, z, r, cell_of, cell_start, sorted, n0, n1, n2, b, cutoff, skin, reach2, half, wrapped,
+                 idx + off[i]);
   }
   record(box, p, skin, kind);
 }

@@ -118,6 +118,24 @@ TEST(NeighborList, PeriodicBoxMatchesBruteForce) {
   expect_matches_brute_force(s, PolyCutoff{}, kMaxCutoff, kSkin);
 }
 
+// Inside a periodic box the scan skips the minimum-image arithmetic for particles away from its faces; a
+// particle left outside the box (up to a quarter box length here, the separations the neighbour list allows)
+// must switch that off and still give every pair.
+TEST(NeighborList, PositionsOutsideThePeriodicBoxMatchBruteForce) {
+  System s = random_system(2000, {-3, 0, 5}, {30, 28, 32}, {true, true, true}, 21);
+  int moved = 0;
+  for (std::size_t i = 0; i < s.p.size(); ++i)
+    if (s.p.x[i] < -3 + 0.25 * 30) {
+      s.p.x[i] += 30;
+      ++moved;
+    }
+  ASSERT_GT(moved, 100);
+  EXPECT_FALSE(NeighborList::inside_periodic_box(s.box.view(), s.p));
+  expect_matches_brute_force(s, PolyCutoff{}, kMaxCutoff, kSkin);
+  s.box.wrap(s.p);
+  EXPECT_TRUE(NeighborList::inside_periodic_box(s.box.view(), s.p));
+}
+
 TEST(NeighborList, NonPeriodicBoxMatchesBruteForce) {
   const System s = random_system(2000, {0, 0, 0}, {30, 28, 32}, {false, false, false}, 12);
   expect_matches_brute_force(s, PolyCutoff{}, kMaxCutoff, kSkin);
