@@ -60,13 +60,16 @@ inline int neighbor_scan(int i, const double* x, const double* y, const double* 
         const int end = cell_start[cell + 1];
         for (int k = cell_start[cell]; k < end; ++k) {
           const int j = sorted[k];
+          // Indices first: a half list skips half the candidates before any arithmetic (in cell-sorted
+          // storage they come in runs, so the branch predicts well).
+          if (j == i || (half && j < i)) continue;
           // Positions are wrapped at a build, so separations are below one box length: no floor() needed.
           const double dx = Image ? nearest_image(xi - x[j], lx, px) : xi - x[j];
           const double dy = Image ? nearest_image(yi - y[j], ly, py) : yi - y[j];
           const double dz = Image ? nearest_image(zi - z[j], lz, pz) : zi - z[j];
           const double d2 = dx * dx + dy * dy + dz * dz;
           // reach2 = (max_cutoff + skin)^2 bounds every pair's cutoff: most candidates stop here.
-          if (d2 >= reach2 || j == i || (half && j < i)) continue;
+          if (d2 >= reach2) continue;
           const double rc = cutoff(ri, r[j]) + skin;
           if (d2 < rc * rc) {
             if (out) out[count] = j;
