@@ -12,6 +12,9 @@ void set_threads(int n) {
 
 int threads() { return omp_get_max_threads(); }
 
+int team_rank() { return omp_get_thread_num(); }
+int team_size() { return omp_get_num_threads(); }
+
 bool kernels_run_on_device() {
 #if defined(DEBRIS_OFFLOAD_NVPTX)
   int on_device = 0;

@@ -65,6 +65,10 @@ constexpr bool offload_build() {
 void set_threads(int n);
 int threads();
 
+/// Inside a DEBRIS_HOST_PARALLEL region: this thread's index and the team's size (0 and 1 outside one).
+int team_rank();
+int team_size();
+
 /// Runs a tiny target region and reports whether it executed on a GPU. Always false in host builds.
 bool kernels_run_on_device();
 
