@@ -57,8 +57,11 @@ inline int neighbor_scan(int i, const double* x, const double* y, const double* 
     for (int bb = 0; bb < st.nsy; ++bb) {
       for (int c = 0; c < st.nsx; ++c) {
         const int cell = st.sx[c] + n0 * (st.sy[bb] + n1 * st.sz[a]);
-        const int end = cell_start[cell + 1];
-        for (int k = cell_start[cell]; k < end; ++k) {
+        const int begin = cell_start[cell], end = cell_start[cell + 1];
+        // A cell lists its particles in increasing index: for a half list, a cell whose last index is
+        // below i holds nothing for this row (in cell-sorted storage, about half the stencil).
+        if (half && begin < end && sorted[end - 1] < i) continue;
+        for (int k = begin; k < end; ++k) {
           const int j = sorted[k];
           // Indices first: a half list skips half the candidates before any arithmetic (in cell-sorted
           // storage they come in runs, so the branch predicts well).
