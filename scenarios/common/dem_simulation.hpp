@@ -62,6 +62,8 @@ class DemSimulation {
   const Box& box() const { return box_; }
   Box& box() { return box_; }
   const Particles& particles() const { return p_; }
+  /// Positions and velocities may be changed between steps; a change of radius or mass reaches the contact
+  /// pass at the next neighbour rebuild or recompute_forces() (the pass keeps per-pair constants).
   Particles& particles() { return p_; }
   Groups& groups() { return groups_; }
   const Groups& groups() const { return groups_; }
