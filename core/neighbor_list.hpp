@@ -11,6 +11,7 @@
 #include "core/cell_list.hpp"
 #include "core/exec.hpp"
 #include "core/particles.hpp"
+#include "core/resize_for_overwrite.hpp"
 #include "core/vec3.hpp"
 
 namespace debris {
@@ -221,7 +222,7 @@ void NeighborList::build(const BoxView& box, const Particles& p, Cutoff cutoff, 
     off[i + 1] = neighbor_row(i, x, y, z, r, cell_of, cell_start, sorted, n0, n1, n2, b, cutoff, skin, reach2, half,
                                wrapped, nullptr);
   }
-  index_.resize(static_cast<std::size_t>(prefix_sum()));
+  resize_for_overwrite(index_, static_cast<std::size_t>(prefix_sum()));
   int* __restrict idx = index_.data();
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
@@ -253,7 +254,7 @@ void NeighborList::build(const BoxView& box, const Particles& p, Cutoff cutoff, 
       buf.resize(at + static_cast<std::size_t>(off[i + 1]));
     }
   }
-  index_.resize(static_cast<std::size_t>(prefix_sum()));
+  resize_for_overwrite(index_, static_cast<std::size_t>(prefix_sum()));
   for (int t = 0; t < team_used; ++t) {
     const std::vector<int>& buf = thread_rows_[static_cast<std::size_t>(t)];
     std::copy(buf.begin(), buf.end(), index_.begin() + off[thread_first_row_[static_cast<std::size_t>(t)]]);

@@ -8,6 +8,7 @@
 #include "core/exec.hpp"
 #include "core/neighbor_list.hpp"
 #include "core/particles.hpp"
+#include "core/resize_for_overwrite.hpp"
 
 namespace debris {
 
@@ -151,17 +152,17 @@ void HalfPassScratch::index(const NeighborList &list) {
   const int n = list.rows(), m = list.entries();
   const int *offset = list.offset().data();
   const int *col = list.index().data();
-  row_of.resize(static_cast<std::size_t>(m));
+  resize_for_overwrite(row_of, static_cast<std::size_t>(m));
   for (int i = 0; i < n; ++i)
     for (int k = offset[i]; k < offset[i + 1]; ++k) row_of[static_cast<std::size_t>(k)] = i;
   // Counting sort of the pairs by partner; the pairs of one partner keep increasing k.
   in_offset.assign(static_cast<std::size_t>(n) + 1, 0);
   for (int k = 0; k < m; ++k) ++in_offset[static_cast<std::size_t>(col[k]) + 1];
   for (int j = 0; j < n; ++j) in_offset[static_cast<std::size_t>(j) + 1] += in_offset[static_cast<std::size_t>(j)];
-  in_entry.resize(static_cast<std::size_t>(m));
+  resize_for_overwrite(in_entry, static_cast<std::size_t>(m));
   std::vector<int> fill(in_offset.begin(), in_offset.end() - 1);
   for (int k = 0; k < m; ++k) in_entry[static_cast<std::size_t>(fill[static_cast<std::size_t>(col[k])]++)] = k;
-  partner.resize(static_cast<std::size_t>(kShareStride) * static_cast<std::size_t>(m));
+  resize_for_overwrite(partner, static_cast<std::size_t>(kShareStride) * static_cast<std::size_t>(m));
   // Row blocks of about kBlockPairs pairs, whole rows each, so a row's own sum is made by one thread.
   block_row.assign(1, 0);
   for (int i = 0; i < n; ++i)

@@ -5,12 +5,13 @@
 #include "core/exec.hpp"
 #include "core/neighbor_list.hpp"
 #include "core/particles.hpp"
+#include "core/resize_for_overwrite.hpp"
 
 namespace debris {
 
 void CohesivePairTable::build(const CohesiveCoefficients& c, const Particles& p, const NeighborList& list) {
-  delta_f.resize(static_cast<std::size_t>(list.entries()));
-  c_n.resize(static_cast<std::size_t>(list.entries()));
+  resize_for_overwrite(delta_f, static_cast<std::size_t>(list.entries()));
+  resize_for_overwrite(c_n, static_cast<std::size_t>(list.entries()));
   coefficients = c;
   kt_over_kn = c.area_t / c.area_n;
   ct_over_cn = std::sqrt(kt_over_kn);
