@@ -227,20 +227,22 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
       const int k_end = offset[block_row[b + 1]];
       int cur = -1;
       double sfx = 0, sfy = 0, sfz = 0, stx = 0, sty = 0, stz = 0;
+      auto flush = [&] {  // the finished row's own share
+        if (cur < 0) return;
+        fx[cur] += sfx;
+        fy[cur] += sfy;
+        fz[cur] += sfz;
+        tx[cur] += stx;
+        ty[cur] += sty;
+        tz[cur] += stz;
+      };
       for (int k0 = offset[block_row[b]]; k0 < k_end; k0 += kChunkPairs) {
         const int k1 = std::min(k_end, k0 + kChunkPairs);
         pair_chunk(in, k0, k1, c);
         for (int k = k0; k < k1; ++k) {
           const int q = k - k0, i = row[k];
           if (i != cur) {
-            if (cur >= 0) {
-              fx[cur] += sfx;
-              fy[cur] += sfy;
-              fz[cur] += sfz;
-              tx[cur] += stx;
-              ty[cur] += sty;
-              tz[cur] += stz;
-            }
+            flush();
             cur = i;
             sfx = sfy = sfz = stx = sty = stz = 0;
           }
@@ -259,14 +261,7 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
           share_k[5] = c.tjz[q];
         }
       }
-      if (cur >= 0) {
-        fx[cur] += sfx;
-        fy[cur] += sfy;
-        fz[cur] += sfz;
-        tx[cur] += stx;
-        ty[cur] += sty;
-        tz[cur] += stz;
-      }
+      flush();
     }
 
     // Phase 2: each particle adds the shares filed for it (pairs where it is the partner, in increasing k)
