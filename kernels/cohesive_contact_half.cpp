@@ -71,7 +71,7 @@ __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4"))) vo
     const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
     const double ri = r[i], rj = r[j], radsum = ri + rj;
     const double dn = d - radsum;
-    // Eqs 7-17 for this pair (only delta_f, which may need pow, comes from the table).
+    // Eqs 7-17 for this pair (delta_f, which may need pow, and c_N of eq 12 come from the table).
     const double r_eff = ri < rj ? ri : rj, r2 = r_eff * r_eff;
     const double de_k = radsum * strain_e;
     const double df_k = df[k];
