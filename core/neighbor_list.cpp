@@ -131,7 +131,7 @@ bool NeighborList::needs_rebuild(const BoxView& box, const Particles& p) const {
 }
 
 std::size_t NeighborList::bytes() const {
-  std::size_t staged = thread_first_row_.capacity();
+  std::size_t staged = 0;
   for (const auto& rows : thread_rows_) staged += rows.capacity();
   return sizeof(int) * (offset_.capacity() + index_.capacity() + staged) +
          sizeof(double) * (x0_.capacity() + y0_.capacity() + z0_.capacity()) + cells_.bytes();

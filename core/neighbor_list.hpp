@@ -38,11 +38,36 @@ inline int neighbor_stencil(int c, int nc, int periodic, int* out) {
   return k;
 }
 
-/// The cells of one stencil: for each axis, the cells visited and how many.
+/// The cells around one cell: its coordinates, and for each axis the cells visited and how many.
 struct Stencil {
+  int cx, cy, cz;
   int sx[3], sy[3], sz[3];
   int nsx, nsy, nsz;
 };
+
+/// The stencil of cell ci in an n0 x n1 x n2 grid.
+inline Stencil cell_stencil(int ci, int n0, int n1, int n2, const int periodic[3]) {
+  Stencil st;
+  st.cx = ci % n0;
+  st.cy = (ci / n0) % n1;
+  st.cz = ci / (n0 * n1);
+  st.nsx = neighbor_stencil(st.cx, n0, periodic[0], st.sx);
+  st.nsy = neighbor_stencil(st.cy, n1, periodic[1], st.sy);
+  st.nsz = neighbor_stencil(st.cz, n2, periodic[2], st.sz);
+  return st;
+}
+
+/// How many particles a stencil holds: room enough for the row of any particle in its centre cell.
+inline int stencil_candidates(const Stencil& st, const int* cell_start, int n0, int n1) {
+  int total = 0;
+  for (int a = 0; a < st.nsz; ++a)
+    for (int bb = 0; bb < st.nsy; ++bb)
+      for (int c = 0; c < st.nsx; ++c) {
+        const int cell = st.sx[c] + n0 * (st.sy[bb] + n1 * st.sz[a]);
+        total += cell_start[cell + 1] - cell_start[cell];
+      }
+  return total;
+}
 
 /// neighbor_row's loop over the stencil. Image = false skips the minimum-image arithmetic (half of the
 /// scan's cost), which is exact where no stencil cell lies across a periodic boundary.
@@ -86,46 +111,23 @@ inline int neighbor_scan(int i, const double* x, const double* y, const double* 
   return count;
 }
 
-/// Scans the stencil around particle i; writes its neighbours to out (when not null) in stencil order,
-/// then cell order, and returns how many there are. half != 0 keeps only j > i. wrapped != 0 promises
-/// that every coordinate on a periodic axis lies in [lo, lo + len].
+/// Scans st, the stencil of particle i's cell, and writes i's neighbours to out (when not null) in stencil
+/// order, then cell order, and returns how many there are. half != 0 keeps only j > i. wrapped != 0
+/// promises that every coordinate on a periodic axis lies in [lo, lo + len].
 template <class Cutoff>
-inline int neighbor_row(int i, const double* x, const double* y, const double* z, const double* r,
-                        const int* cell_of, const int* cell_start, const int* sorted, int n0, int n1, int n2,
+inline int neighbor_row(int i, const Stencil& st, const double* x, const double* y, const double* z,
+                        const double* r, const int* cell_start, const int* sorted, int n0, int n1, int n2,
                         const BoxView& b, Cutoff cutoff, double skin, double reach2, int half, int wrapped,
                         int* out) {
-  const int ci = cell_of[i];
-  const int cx = ci % n0, cy = (ci / n0) % n1, cz = ci / (n0 * n1);
-  Stencil st;
-  st.nsx = neighbor_stencil(cx, n0, b.periodic[0], st.sx);
-  st.nsy = neighbor_stencil(cy, n1, b.periodic[1], st.sy);
-  st.nsz = neighbor_stencil(cz, n2, b.periodic[2], st.sz);
   // Away from periodic boundaries (most particles) the plain difference is the minimum image of every
   // pair within reach, provided all positions lie inside the box on its periodic axes (wrapped != 0):
   // cells are at least max_cutoff + skin wide, and an axis with 3 or more of them puts any image across
   // the boundary at least one cell width away.
   auto inside = [](int c, int nc, int periodic) { return !periodic || (nc >= 3 && c > 0 && c < nc - 1); };
-  if (wrapped && inside(cx, n0, b.periodic[0]) && inside(cy, n1, b.periodic[1]) && inside(cz, n2, b.periodic[2]))
+  if (wrapped && inside(st.cx, n0, b.periodic[0]) && inside(st.cy, n1, b.periodic[1]) &&
+      inside(st.cz, n2, b.periodic[2]))
     return neighbor_scan<false>(i, x, y, z, r, cell_start, sorted, n0, n1, st, b, cutoff, skin, reach2, half, out);
   return neighbor_scan<true>(i, x, y, z, r, cell_start, sorted, n0, n1, st, b, cutoff, skin, reach2, half, out);
-}
-
-/// How many particles the stencil around particle i holds: room enough for its row.
-inline int neighbor_candidates(int i, const int* cell_of, const int* cell_start, int n0, int n1, int n2,
-                               const BoxView& b) {
-  const int ci = cell_of[i];
-  Stencil st;
-  st.nsx = neighbor_stencil(ci % n0, n0, b.periodic[0], st.sx);
-  st.nsy = neighbor_stencil((ci / n0) % n1, n1, b.periodic[1], st.sy);
-  st.nsz = neighbor_stencil(ci / (n0 * n1), n2, b.periodic[2], st.sz);
-  int total = 0;
-  for (int a = 0; a < st.nsz; ++a)
-    for (int bb = 0; bb < st.nsy; ++bb)
-      for (int c = 0; c < st.nsx; ++c) {
-        const int cell = st.sx[c] + n0 * (st.sy[bb] + n1 * st.sz[a]);
-        total += cell_start[cell + 1] - cell_start[cell];
-      }
-  return total;
 }
 
 DEBRIS_END_DECLARE_TARGET
@@ -182,7 +184,6 @@ class NeighborList {
   std::vector<int> offset_;
   std::vector<int> index_;
   std::vector<std::vector<int>> thread_rows_;  // host build: each thread's rows, kept between builds
-  std::vector<int> thread_first_row_;
   std::vector<double> x0_, y0_, z0_;  // positions at the last build
   double len0_[3] = {0, 0, 0};        // box lengths at the last build
   int rows_ = 0;
@@ -219,14 +220,16 @@ void NeighborList::build(const BoxView& box, const Particles& p, Cutoff cutoff, 
   // Device: count the rows, place them, scan again to fill.
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
-    off[i + 1] = neighbor_row(i, x, y, z, r, cell_of, cell_start, sorted, n0, n1, n2, b, cutoff, skin, reach2, half,
+    const Stencil st = cell_stencil(cell_of[i], n0, n1, n2, b.periodic);
+    off[i + 1] = neighbor_row(i, st, x, y, z, r, cell_start, sorted, n0, n1, n2, b, cutoff, skin, reach2, half,
                                wrapped, nullptr);
   }
   resize_for_overwrite(index_, static_cast<std::size_t>(prefix_sum()));
   int* __restrict idx = index_.data();
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
-    neighbor_row(i, x, y, z, r, cell_of, cell_start, sorted, n0, n1, n2, b, cutoff, skin, reach2, half, wrapped,
+    const Stencil st = cell_stencil(cell_of[i], n0, n1, n2, b.periodic);
+    neighbor_row(i, st, x, y, z, r, cell_start, sorted, n0, n1, n2, b, cutoff, skin, reach2, half, wrapped,
                  idx + off[i]);
   }
 #else
@@ -234,30 +237,29 @@ void NeighborList::build(const BoxView& box, const Particles& p, Cutoff cutoff, 
   // (with room for all of a row's candidates), then the runs are copied into place: the same rows as two
   // scans, at about half the cost.
   thread_rows_.resize(static_cast<std::size_t>(exec::threads()));
-  thread_first_row_.assign(thread_rows_.size() + 1, n);
   int team_used = 1;
+  // Thread t of a team of `team` takes rows [first_row(t, team), first_row(t + 1, team)).
+  auto first_row = [n](int t, int team) { return static_cast<int>(static_cast<long long>(n) * t / team); };
   DEBRIS_HOST_PARALLEL {
     const int team = exec::team_size(), rank = exec::team_rank();
-    const int r0 = static_cast<int>(static_cast<long long>(n) * rank / team);
-    const int r1 = static_cast<int>(static_cast<long long>(n) * (rank + 1) / team);
     if (rank == 0) team_used = team;
-    thread_first_row_[static_cast<std::size_t>(rank)] = r0;
     std::vector<int>& buf = thread_rows_[static_cast<std::size_t>(rank)];
     buf.clear();
-    for (int i = r0; i < r1; ++i) {
+    for (int i = first_row(rank, team); i < first_row(rank + 1, team); ++i) {
+      const Stencil st = cell_stencil(cell_of[i], n0, n1, n2, b.periodic);
       const std::size_t at = buf.size();
-      const std::size_t room = at + static_cast<std::size_t>(neighbor_candidates(i, cell_of, cell_start, n0, n1, n2, b));
+      const std::size_t room = at + static_cast<std::size_t>(stencil_candidates(st, cell_start, n0, n1));
       if (buf.capacity() < room) buf.reserve(2 * room);
       buf.resize(room);
-      off[i + 1] = neighbor_row(i, x, y, z, r, cell_of, cell_start, sorted, n0, n1, n2, b, cutoff, skin, reach2,
-                                 half, wrapped, buf.data() + at);
+      off[i + 1] = neighbor_row(i, st, x, y, z, r, cell_start, sorted, n0, n1, n2, b, cutoff, skin, reach2, half,
+                                 wrapped, buf.data() + at);
       buf.resize(at + static_cast<std::size_t>(off[i + 1]));
     }
   }
   resize_for_overwrite(index_, static_cast<std::size_t>(prefix_sum()));
   for (int t = 0; t < team_used; ++t) {
     const std::vector<int>& buf = thread_rows_[static_cast<std::size_t>(t)];
-    std::copy(buf.begin(), buf.end(), index_.begin() + off[thread_first_row_[static_cast<std::size_t>(t)]]);
+    std::copy(buf.begin(), buf.end(), index_.begin() + off[first_row(t, team_used)]);
   }
 #endif
   record(box, p, skin, kind);

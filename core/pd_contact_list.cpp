@@ -52,16 +52,13 @@ inline int contact_row(int i, const double* x, const double* y, const double* z,
                        const int* grain, const int* kind, const int* b_offset, const int* b_partner,
                        const unsigned char* b_broken, int has_bonds, int* out, int capacity) {
   const double xi = x[i], yi = y[i], zi = z[i];
-  const int ci = cell_of[i];
-  int sx[3], sy[3], sz[3];
-  const int nsx = neighbor_stencil(ci % n0, n0, 0, sx);
-  const int nsy = neighbor_stencil((ci / n0) % n1, n1, 0, sy);
-  const int nsz = neighbor_stencil(ci / (n0 * n1), n2, 0, sz);
+  const int not_periodic[3] = {0, 0, 0};
+  const Stencil st = cell_stencil(cell_of[i], n0, n1, n2, not_periodic);
   int count = 0;
-  for (int a = 0; a < nsz; ++a) {
-    for (int b = 0; b < nsy; ++b) {
-      for (int c = 0; c < nsx; ++c) {
-        const int cell = sx[c] + n0 * (sy[b] + n1 * sz[a]);
+  for (int a = 0; a < st.nsz; ++a) {
+    for (int b = 0; b < st.nsy; ++b) {
+      for (int c = 0; c < st.nsx; ++c) {
+        const int cell = st.sx[c] + n0 * (st.sy[b] + n1 * st.sz[a]);
         const int end = cell_start[cell + 1];
         for (int k = cell_start[cell]; k < end; ++k) {
           const int j = sorted[k];
