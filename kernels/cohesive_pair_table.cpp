@@ -27,8 +27,9 @@ void CohesivePairTable::build(const CohesiveCoefficients& c, const Particles& p,
   for (int i = 0; i < n; ++i)
     for (int k = offset[i]; k < offset[i + 1]; ++k) {
       const int j = index[k];
-      df[k] = cohesive_delta_f(coef, radius[i] + radius[j]);
-      cn[k] = cohesive_pair_params(coef, radius[i], radius[j], mass[i], mass[j]).c_n;
+      const CohesivePairParams pp = cohesive_pair_params(coef, radius[i], radius[j], mass[i], mass[j]);
+      df[k] = pp.delta_f;  // eq 10 (with its pow) once per pair
+      cn[k] = pp.c_n;
     }
 }
 
