@@ -259,9 +259,13 @@ def main():
                         "--update. Refresh on purpose only; see the top of perf_check.py.",
             "baselines": kept + [entry],
         }
-        with open(args.baseline, "w") as f:
+        # Written beside it and renamed over it: an interrupted update leaves the old file, with the other
+        # kinds' baselines, whole.
+        partial = args.baseline + ".partial"
+        with open(partial, "w") as f:
             json.dump(document, f, indent=2, sort_keys=False)
             f.write("\n")
+        os.replace(partial, args.baseline)
         print("%-46s %12s %8s %12s" % ("benchmark", "ratio", "cv", "cpu ratio"))
         for n in SUBSET:
             print("%-46s %12.5g %7.1f%% %12.5g" % (n, ratios[n], 100 * cvs.get(n, float("nan")), cpu_ratios[n]))
