@@ -80,36 +80,47 @@ double read_bound(const InputNode& n) {
   return n.quantity(units::length);
 }
 
+}  // namespace
+
+void read_group_motion(const InputNode& g, const Box& box, Group& group) {
+  group.motion = GroupMotion::free;
+  group.velocity = Vec3{};
+  group.external_force = Vec3{};
+  const std::string motion = g.choice("motion", {"free", "frozen", "velocity", "force"}, "free");
+  group.motion = motion == "free"     ? GroupMotion::free
+                 : motion == "frozen" ? GroupMotion::frozen
+                 : motion == "velocity" ? GroupMotion::velocity
+                                        : GroupMotion::force;
+  if (group.motion == GroupMotion::velocity) group.velocity = g.vec3("velocity", units::velocity);
+  if (group.motion == GroupMotion::force) {
+    const bool has_force = g.has("force"), has_stress = g.has("stress");
+    if (has_force == has_stress)
+      throw input_error(g.path() + ".force", has_force ? "both force and stress" : "neither",
+                        "a force group needs exactly one of 'force' (a vector) or 'stress' (a traction vector)");
+    if (has_force) {
+      group.external_force = g.vec3("force", units::force);
+    } else {
+      const Vec3 t = g.vec3("stress", units::pressure);
+      const double comps[3] = {std::abs(t.x), std::abs(t.y), std::abs(t.z)};
+      const int largest = comps[0] >= comps[1] && comps[0] >= comps[2] ? 0 : (comps[1] >= comps[2] ? 1 : 2);
+      const int normal = axis_of(g, "area_normal", std::string(1, "xyz"[largest]));
+      double area = 1.0;
+      for (int a = 0; a < 3; ++a)
+        if (a != normal) area *= box.length(a);
+      group.external_force = area * t;
+    }
+    group.velocity = g.vec3("initial_velocity", units::velocity, Vec3{});
+  }
+}
+
+namespace {
+
 void read_groups(const InputNode& root, DemRunConfig& cfg) {
   if (!root.has("groups")) return;
   for (const InputNode& g : root.list("groups")) {
     Group group;
     group.name = g.string("name");
-    const std::string motion = g.choice("motion", {"free", "frozen", "velocity", "force"}, "free");
-    group.motion = motion == "free"     ? GroupMotion::free
-                   : motion == "frozen" ? GroupMotion::frozen
-                   : motion == "velocity" ? GroupMotion::velocity
-                                          : GroupMotion::force;
-    if (group.motion == GroupMotion::velocity) group.velocity = g.vec3("velocity", units::velocity);
-    if (group.motion == GroupMotion::force) {
-      const bool has_force = g.has("force"), has_stress = g.has("stress");
-      if (has_force == has_stress)
-        throw input_error(g.path() + ".force", has_force ? "both force and stress" : "neither",
-                          "a force group needs exactly one of 'force' (a vector) or 'stress' (a traction vector)");
-      if (has_force) {
-        group.external_force = g.vec3("force", units::force);
-      } else {
-        const Vec3 t = g.vec3("stress", units::pressure);
-        const double comps[3] = {std::abs(t.x), std::abs(t.y), std::abs(t.z)};
-        const int largest = comps[0] >= comps[1] && comps[0] >= comps[2] ? 0 : (comps[1] >= comps[2] ? 1 : 2);
-        const int normal = axis_of(g, "area_normal", std::string(1, "xyz"[largest]));
-        double area = 1.0;
-        for (int a = 0; a < 3; ++a)
-          if (a != normal) area *= cfg.box.length(a);
-        group.external_force = area * t;
-      }
-      group.velocity = g.vec3("initial_velocity", units::velocity, Vec3{});
-    }
+    read_group_motion(g, cfg.box, group);
     // Membership: a block region, particle types, or explicit ids (any combination narrows it down).
     constexpr double inf = std::numeric_limits<double>::infinity();
     double lo[3] = {-inf, -inf, -inf}, hi[3] = {inf, inf, inf};
@@ -159,6 +170,40 @@ void read_groups(const InputNode& root, DemRunConfig& cfg) {
   }
 }
 
+// What stage `st` changes; its name and length were read by read_stage_lengths.
+DemStageChanges read_stage_changes(const InputNode& st, const DemRunConfig& cfg) {
+  DemStageChanges c;
+  if (st.has("global_damping")) {
+    const double d = st.quantity("global_damping", units::dimensionless);
+    if (!(d >= 0.0) || !std::isfinite(d))
+      throw input_error(st.path() + ".global_damping", format_value(d), "must be >= 0 (a fraction of c_c, eq 21)");
+    c.global_damping = d;
+  }
+  if (st.has("adhesive")) c.adhesive = st.boolean("adhesive");
+  if (st.has("tangential")) c.tangential = st.boolean("tangential");
+  if (st.has("groups")) {
+    for (const InputNode& g : st.list("groups")) {
+      const std::string name = g.string("name");
+      DemStageChanges::GroupChange change;
+      change.group = cfg.groups.find(name);
+      if (change.group < 0) {
+        std::string known;
+        for (const Group& gr : cfg.groups.list) known += (known.empty() ? "" : ", ") + gr.name;
+        throw input_error(g.path() + ".name", name,
+                          "no such group (groups: " + (known.empty() ? std::string("none") : known) + ")");
+      }
+      for (const DemStageChanges::GroupChange& other : c.groups)
+        if (other.group == change.group)
+          throw input_error(g.path() + ".name", name, "the stage changes this group twice");
+      change.motion = cfg.groups.list[static_cast<std::size_t>(change.group)];
+      read_group_motion(g, cfg.box, change.motion);
+      change.keep_velocity = change.motion.motion == GroupMotion::force && !g.has("initial_velocity");
+      c.groups.push_back(change);
+    }
+  }
+  return c;
+}
+
 }  // namespace
 
 DemRunConfig read_dem_input(const std::string& path) {
@@ -199,8 +244,12 @@ DemRunConfig read_dem_input(const InputNode& root, const std::string& base_direc
 
   // Run control.
   const InputNode run = root.child("run");
-  cfg.steps = run.integer("steps");
-  if (cfg.steps < 0) throw input_error("run.steps", std::to_string(cfg.steps), "must be >= 0");
+  std::vector<InputNode> stage_nodes;
+  cfg.stages = read_stage_lengths(root, &stage_nodes);
+  for (const InputNode& st : stage_nodes) cfg.stage_changes.push_back(read_stage_changes(st, cfg));
+  // With stages, run.steps may stop the run early (a chunk of a long run); without, it is the length.
+  cfg.steps = cfg.stages.empty() || run.has("steps") ? run.integer("steps") : -1;
+  if (run.has("steps") && cfg.steps < 0) throw input_error("run.steps", std::to_string(cfg.steps), "must be >= 0");
   DemSettings& s = cfg.settings;
   if (run.has("time_step") && run.has("time_step_fraction"))
     throw input_error("run.time_step", "given with time_step_fraction", "give one of time_step (absolute) or time_step_fraction (of dt_c)");
@@ -217,6 +266,16 @@ DemRunConfig read_dem_input(const InputNode& root, const std::string& base_direc
   s.options.adhesive = run.boolean("adhesive", true) ? 1 : 0;
   s.options.tangential = run.boolean("tangential", true) ? 1 : 0;
   s.masses_from_density = !masses_given;
+  if (run.has("overlap_limit")) {
+    if (run.child("overlap_limit").text() == "auto") {
+      cfg.overlap_limit_auto = true;
+    } else {
+      cfg.overlap_limit = run.quantity("overlap_limit", units::dimensionless);
+      if (!(cfg.overlap_limit > 0) || !std::isfinite(cfg.overlap_limit))
+        throw input_error("run.overlap_limit", format_value(cfg.overlap_limit),
+                          "must be > 0 (in smallest radii) or auto (the deepest initial overlap + one smallest radius)");
+    }
+  }
   cfg.threads = static_cast<int>(run.integer("threads", 0));
   if (cfg.threads < 0) throw input_error("run.threads", std::to_string(cfg.threads), "must be >= 0");
 

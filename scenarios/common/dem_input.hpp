@@ -1,12 +1,16 @@
 #pragma once
 // Reads a debris_dem input file (YAML, quantities with units) into a ready-to-run system. Everything is
 // validated here, before any output is opened, so a bad input never touches earlier results.
+#include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/box.hpp"
 #include "core/groups.hpp"
 #include "core/particles.hpp"
 #include "scenarios/common/dem_simulation.hpp"
+#include "scenarios/common/stages.hpp"
 
 namespace debris {
 
@@ -21,15 +25,49 @@ struct DemOutputSettings {
   double progress_seconds = 10; // progress line at most this often
 };
 
+/// What a stage of a debris_dem run changes at its start (scenarios/common/stages.hpp); absent keys keep
+/// what the previous stage had.
+///   stages:
+///     - name: slide
+///       duration: 10 ns
+///       global_damping: 0          # fraction of c_c (eq 21)
+///       adhesive: true             # the pair law's adhesion and tangential parts
+///       tangential: true
+///       groups:                    # a group's whole motion, as in groups: (membership stays)
+///         - {name: top, motion: force, velocity: [10 m/s, free, 0], stress: [0, -100 MPa, 0]}
+struct DemStageChanges {
+  std::optional<double> global_damping;
+  std::optional<bool> adhesive, tangential;
+  /// Group index and its new motion (name and members unchanged). `keep_velocity`: a force group whose
+  /// stage gives no initial_velocity keeps moving as it was on its load-driven axes.
+  struct GroupChange {
+    int group = -1;
+    Group motion;
+    bool keep_velocity = false;
+  };
+  std::vector<GroupChange> groups;
+};
+
 struct DemRunConfig {
   Box box;
   Particles particles;
   Groups groups;
   DemSettings settings;
-  long steps = 0;
+  long steps = 0;    // run.steps, a total; -1 when absent and the stages give the length
   int threads = 0;  // 0 = OpenMP default
+  /// Health check: an overlap deeper than this many smallest radii stops the run (exit 3). `auto`: the
+  /// deepest overlap at the start of the run plus one smallest radius (relaxed amorphous samples hold
+  /// overlaps of 0.6-1.3 r_min, which the default would stop).
+  double overlap_limit = 0.5;
+  bool overlap_limit_auto = false;
+  std::vector<StageLength> stages;
+  std::vector<DemStageChanges> stage_changes;  // one per stage
   DemOutputSettings output;
 };
+
+/// The motion of a group from `node` (motion, velocity, force / stress / area_normal, initial_velocity)
+/// into `group`, every motion field set (what the node leaves out is reset). Membership is not read here.
+void read_group_motion(const InputNode& node, const Box& box, Group& group);
 
 /// Reads the whole file; InputError naming the key and the value for anything missing, malformed,
 /// out of range or unknown. Relative paths inside it (a LAMMPS data file) are relative to the file.

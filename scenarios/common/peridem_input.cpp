@@ -311,6 +311,54 @@ void set_grain_state(PdNodes& nodes, const PdGrains& grains, int g, Vec3 v, int 
   }
 }
 
+// What stage `st` changes (its name and length were read by read_stage_lengths). Walls are named as in
+// walls: (an unnamed one is wall<k>); the wall's grain index is found at run time, on the built system.
+PeridemStageChanges read_stage_changes(const InputNode& st, const std::vector<WallInput>& walls, int dim) {
+  PeridemStageChanges c;
+  if (st.has("gravity")) c.gravity = planar(st, "gravity", u::acceleration, Vec3{}, dim);
+  if (!st.has("walls")) return c;
+  for (const InputNode& w : st.list("walls")) {
+    PeridemStageChanges::WallChange wc;
+    wc.key = w.path();
+    wc.name = w.string("name");
+    bool known = false;
+    std::string names;
+    for (std::size_t k = 0; k < walls.size(); ++k) {
+      const std::string n = walls[k].name.empty() ? "wall" + std::to_string(k) : walls[k].name;
+      known = known || n == wc.name;
+      names += (names.empty() ? "" : ", ") + n;
+    }
+    if (!known)
+      throw input_error(w.path() + ".name", wc.name,
+                        "no such wall (walls: " + (names.empty() ? std::string("none") : names) + ")");
+    for (const PeridemStageChanges::WallChange& o : c.walls)
+      if (o.name == wc.name) throw input_error(w.path() + ".name", wc.name, "the stage changes this wall twice");
+    if (w.has("velocity")) wc.velocity = planar(w, "velocity", u::velocity, Vec3{}, dim);
+    if (w.has("move_by") && w.has("place"))
+      throw input_error(w.path() + ".place", "given with move_by", "give one of place or move_by");
+    if (w.has("move_by")) wc.move_by = planar(w, "move_by", u::length, Vec3{}, dim);
+    if (w.has("place")) {
+      const InputNode p = w.child("place");
+      const std::vector<std::string> sides{"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
+      const std::vector<std::string> keys = p.is_map() ? p.keys() : std::vector<std::string>{};
+      if (keys.size() != 1 || std::find(sides.begin(), sides.end(), keys.front()) == sides.end())
+        throw input_error(p.path(), p.is_scalar() ? p.text() : (keys.empty() ? std::string("{}") : keys.front()),
+                          "give one of x_min, x_max, y_min, y_max, z_min, z_max: where the wall's lowest or highest "
+                          "node goes, e.g. {y_min: 31.2 mm}");
+      const std::size_t side = static_cast<std::size_t>(std::find(sides.begin(), sides.end(), keys.front()) - sides.begin());
+      wc.place_axis = static_cast<int>(side / 2);
+      wc.place_max = side % 2 == 1;
+      if (dim == 2 && wc.place_axis == 2) throw input_error(p.path(), keys.front(), "a 2D run has no z to place along");
+      wc.place_at = p.quantity(keys.front(), u::length);
+      if (!std::isfinite(wc.place_at)) throw input_error(p.path() + "." + keys.front(), format_value(wc.place_at), "must be finite");
+    }
+    if (!wc.velocity && !wc.move_by && wc.place_axis < 0)
+      throw input_error(w.path(), wc.name, "a wall change needs velocity, place or move_by");
+    c.walls.push_back(wc);
+  }
+  return c;
+}
+
 }  // namespace
 
 PeridemRunConfig read_peridem_input(const std::string& path, const PeridemInputOptions& options) {
@@ -419,11 +467,16 @@ PeridemRunConfig read_peridem_input(const InputNode& root, const std::string& ba
   const InputNode run = root.child("run");
   cfg.settings.time_step = run.quantity("time_step", u::time);
   require_positive(cfg.settings.time_step, "run.time_step");
+  std::vector<InputNode> stage_nodes;
+  cfg.stages = read_stage_lengths(root, &stage_nodes);
+  for (const InputNode& st : stage_nodes) cfg.stage_changes.push_back(read_stage_changes(st, walls, dim));
   const bool has_steps = run.has("steps"), has_final = run.has("final_time");
-  if (has_steps == has_final)
+  if (!cfg.stages.empty() && !has_steps && !has_final) {
+    cfg.steps = -1;  // the stages' length
+  } else if (has_steps == has_final) {
     throw input_error("run.steps", has_steps ? "given with final_time" : "(absent)",
                       "give exactly one of run.steps (a number of steps) or run.final_time (a time)");
-  if (has_steps) {
+  } else if (has_steps) {
     cfg.steps = run.integer("steps");
     if (cfg.steps < 0) throw input_error("run.steps", std::to_string(cfg.steps), "must be >= 0");
   } else {

@@ -34,7 +34,8 @@
 //     damping_onset_factor: 1, damping: grain_centres,             # or node_pairs (one for the run)
 //     pairs: [{materials: [M1, M2], restitution: 0.9, ...}]
 //   gravity: [0, -10 m/s^2, 0]
-//   run: {time_step: 0.1 us, steps: 1000 (or final_time: 1 ms), skin: 0 (R_c), threads: 0,
+//   stages: [...]                                 # optional: see PeridemStageChanges below
+//   run: {time_step: 0.1 us, steps: 1000 (or final_time: 1 ms; with stages optional), skin: 0 (R_c), threads: 0,
 //         allow_unstable_time_step: false}
 //   output: {directory: out, thermo_every: 100, trajectory_every: 0, checkpoint_every: 0,
 //            progress_seconds: 10, grain_columns: 8}
@@ -42,6 +43,7 @@
 // Grain order: the CSV's grains first in PeriDEM's order (so a grain's index is PeriDEM's particle id),
 // then the explicit grains in file order, then the walls. Gmsh shapes are meshed into
 // <output directory>/meshes (reused when the same script was meshed before).
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,6 +51,7 @@
 #include "kernels/pd_contact_params.hpp"
 #include "kernels/pd_material.hpp"
 #include "scenarios/common/peridem_simulation.hpp"
+#include "scenarios/common/stages.hpp"
 
 namespace debris {
 
@@ -63,6 +66,30 @@ struct PeridemOutputSettings {
   long grain_columns = 8;        // per-grain thermo columns (centre, velocity, damage) up to this many grains
 };
 
+/// What a stage of a debris_peridem run changes at its start (scenarios/common/stages.hpp):
+///   stages:
+///     - {name: settle, duration: 0.06 s}
+///     - name: press
+///       duration: 0.09 s
+///       walls:                                   # by name (unnamed walls are wall0, wall1, ...)
+///         - {name: lid, place: {y_min: 31.2 mm}, velocity: [0, -0.06 m/s, 0]}   # or move_by: [dx, dy, dz]
+///       gravity: [0, -10 m/s^2, 0]
+/// place: one of x_min, x_max, y_min, y_max, z_min, z_max: the wall moves rigidly along that axis until its
+/// lowest (min) or highest (max) node is there. A wall that would then touch a grain is an InputError
+/// naming both.
+struct PeridemStageChanges {
+  struct WallChange {
+    std::string name, key;     // the wall's name; "stages[1].walls[0]" for messages
+    std::optional<Vec3> velocity;
+    std::optional<Vec3> move_by;
+    int place_axis = -1;       // 0, 1, 2 with place_max and place_at, or -1
+    bool place_max = false;
+    double place_at = 0;
+  };
+  std::vector<WallChange> walls;
+  std::optional<Vec3> gravity;
+};
+
 struct PeridemRunConfig {
   int dimension = 2;
   std::vector<std::string> material_names;
@@ -72,7 +99,9 @@ struct PeridemRunConfig {
   PdNodes nodes;  // empty when read without building the system
   PdGrains grains;
   std::vector<std::string> grain_names;  // one per grain and wall (thermo columns)
-  long steps = 0;                        // total steps of the run (from run.steps or run.final_time)
+  long steps = 0;  // total steps of the run (from run.steps or run.final_time); -1 when the stages give it
+  std::vector<StageLength> stages;
+  std::vector<PeridemStageChanges> stage_changes;  // one per stage
   int threads = 0;                       // 0 = OpenMP default
   PeridemOutputSettings output;
 };

@@ -275,6 +275,71 @@ void PeridemSimulation::set_grain_velocity(int g, Vec3 v) {
   }
 }
 
+void PeridemSimulation::set_wall_velocity(int g, Vec3 v) {
+  const std::size_t k = static_cast<std::size_t>(g);
+  grains_.wall_vx[k] = v.x;
+  grains_.wall_vy[k] = v.y;
+  grains_.wall_vz[k] = v.z;
+  for (int i = grains_.node_begin[k]; i < grains_.node_end[k]; ++i) {
+    nodes_.vx[i] = v.x;
+    nodes_.vy[i] = v.y;
+    nodes_.vz[i] = v.z;
+  }
+  compute_forces();
+}
+
+void PeridemSimulation::move_wall(int g, Vec3 d) {
+  const std::size_t k = static_cast<std::size_t>(g);
+  const int b = grains_.node_begin[k], e = grains_.node_end[k];
+  for (int i = b; i < e; ++i) {
+    nodes_.x[i] += d.x;
+    nodes_.y[i] += d.y;
+    nodes_.z[i] += d.z;
+    nodes_.x0[i] += d.x;  // a wall has no bonds: its reference moves with it
+    nodes_.y0[i] += d.y;
+    nodes_.z0[i] += d.z;
+  }
+  // Refuse a wall that lands on the grains: the wall's bounding box grown by the largest contact radius
+  // first (cheap), then node by node against the wall's nodes.
+  const double reach = table_.max_contact_radius();
+  Vec3 lo{nodes_.x[b], nodes_.y[b], nodes_.z[b]}, hi = lo;
+  for (int i = b; i < e; ++i) {
+    lo = {std::min(lo.x, nodes_.x[i]), std::min(lo.y, nodes_.y[i]), std::min(lo.z, nodes_.z[i])};
+    hi = {std::max(hi.x, nodes_.x[i]), std::max(hi.y, nodes_.y[i]), std::max(hi.z, nodes_.z[i])};
+  }
+  const int wall_material = grains_.material[k];
+  for (std::size_t j = 0; j < nodes_.size(); ++j) {
+    const int gj = nodes_.grain[j];
+    if (!is_particle(grains_, gj)) continue;
+    if (nodes_.x[j] < lo.x - reach || nodes_.x[j] > hi.x + reach || nodes_.y[j] < lo.y - reach ||
+        nodes_.y[j] > hi.y + reach || nodes_.z[j] < lo.z - reach || nodes_.z[j] > hi.z + reach)
+      continue;
+    const double rc = table_.pair(grains_.material[gj], wall_material).r_c;
+    for (int i = b; i < e; ++i) {
+      const double dx = nodes_.x[j] - nodes_.x[i], dy = nodes_.y[j] - nodes_.y[i], dz = nodes_.z[j] - nodes_.z[i];
+      const double dist = std::sqrt(dx * dx + dy * dy + dz * dz);
+      if (dist < rc) {
+        const std::string wall = k < grain_names_.size() ? grain_names_[k] : "wall" + std::to_string(g);
+        const std::string grain = static_cast<std::size_t>(gj) < grain_names_.size()
+                                      ? grain_names_[static_cast<std::size_t>(gj)]
+                                      : "grain" + std::to_string(gj);
+        throw input_error("walls." + wall, "moved by (" + format_value(d.x) + ", " + format_value(d.y) + ", " +
+                                               format_value(d.z) + ") m",
+                          "at step " + std::to_string(step_) + " it would lie on grain '" + grain + "' (node " +
+                              std::to_string(nodes_.id[j]) + " is " + format_value(dist) +
+                              " m from a wall node, within the contact radius " + format_value(rc) + " m)");
+      }
+    }
+  }
+  rebuild_contacts();
+  compute_forces();
+}
+
+void PeridemSimulation::set_gravity(Vec3 g) {
+  settings_.gravity = g;
+  compute_forces();
+}
+
 PeridemDiagnostics PeridemSimulation::diagnostics() {
   PeridemDiagnostics d;
   const std::size_t n = nodes_.size();

@@ -97,6 +97,15 @@ class PeridemSimulation {
   /// Sets every node of grain g to velocity v (initial conditions; before the first step).
   void set_grain_velocity(int g, Vec3 v);
 
+  // Between steps (a stage's start): each re-evaluates this step's forces, so the change acts at once.
+  /// A wall's prescribed velocity from now on (its nodes take it at once).
+  void set_wall_velocity(int g, Vec3 v);
+  /// Moves wall g rigidly by d (a lid placed before it presses). InputError naming the wall and the grain
+  /// if a particle node then lies closer to one of its nodes than their contact radius R_c: a wall placed
+  /// into the grains would throw them out at once.
+  void move_wall(int g, Vec3 d);
+  void set_gravity(Vec3 g);
+
   /// One paragraph: nodes, grains, bonds, h, R_c, K_n, dt against the stable step.
   std::string summary() const;
 

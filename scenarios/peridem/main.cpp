@@ -5,33 +5,25 @@
 // velocity (ParaView) and checkpoints to the output directory; `--restart` continues from a checkpoint bit
 // for bit. Bad input ends with one message naming the key and the value and exit 2, before anything is
 // written; a run whose state turns non-finite or explodes stops with exit 3 and a message naming the step
-// and the node, and keeps the last good checkpoint.
-#include <CLI/CLI.hpp>
+// and the node, and keeps the last good checkpoint. The run loop, stages included, is the shared runner's
+// (scenarios/common/runner.hpp); this file says what a PeriDEM run writes and checks.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <sstream>
 
 #include "core/error.hpp"
-#include "core/io/input.hpp"
 #include "core/exec.hpp"
 #include "core/io/node_trajectory_writer.hpp"
-#include "core/io/progress.hpp"
-#include "core/io/thermo_csv.hpp"
 #include "scenarios/common/peridem_input.hpp"
+#include "scenarios/common/runner.hpp"
 
 namespace {
 
 using namespace debris;
-using Clock = std::chrono::steady_clock;
-
-constexpr int kExitInput = 2;     // bad input
-constexpr int kExitUnstable = 3;  // the run blew up (NaN, or nodes jumping past the contact radius)
 constexpr std::size_t kGlobalColumns = 8;
 constexpr std::size_t kTerminalColumns = 24;  // the terminal shows every column up to this many
 
@@ -47,7 +39,7 @@ bool grain_columns(const PeridemSimulation& sim, const PeridemOutputSettings& ou
   return particle_grains(sim.grains()) <= static_cast<std::size_t>(out.grain_columns);
 }
 
-std::vector<std::string> thermo_columns(const PeridemSimulation& sim, int dimension, bool per_grain) {
+std::vector<std::string> peridem_thermo_columns(const PeridemSimulation& sim, int dimension, bool per_grain) {
   std::vector<std::string> c{"step",           "time",       "kinetic_energy", "bond_energy",
                              "contact_energy", "max_damage", "broken_bonds",   "contact_pairs"};
   const PdGrains& g = sim.grains();
@@ -79,7 +71,7 @@ long grain_broken_bonds(const PeridemSimulation& sim, std::size_t g) {
 }
 
 /// Needs diagnostics() of this step first (damage, grain centres).
-std::vector<double> thermo_row(PeridemSimulation& sim, const PeridemDiagnostics& d, int dimension, bool per_grain) {
+std::vector<double> peridem_thermo_row(PeridemSimulation& sim, const PeridemDiagnostics& d, int dimension, bool per_grain) {
   std::vector<double> row{static_cast<double>(sim.step_count()),
                           sim.time(),
                           d.kinetic_energy,
@@ -119,7 +111,7 @@ std::vector<double> thermo_row(PeridemSimulation& sim, const PeridemDiagnostics&
 
 // One terminal line per thermo row; each column as wide as its name, so the header lines up. Rows with
 // more than kTerminalColumns columns show the global and wall columns (the CSV has them all).
-void print_thermo(const std::vector<std::string>& cols, const std::vector<double>& row, std::size_t shown,
+void peridem_print_thermo(const std::vector<std::string>& cols, const std::vector<double>& row, std::size_t shown,
                   bool header) {
   auto width = [&](std::size_t k) { return static_cast<int>(std::max<std::size_t>(cols[k].size(), 11) + 1); };
   if (header) {
@@ -135,163 +127,163 @@ void print_thermo(const std::vector<std::string>& cols, const std::vector<double
   std::cout << std::endl;
 }
 
-struct Options {
-  std::string input, output, restart;
-  int threads = 0;
+// debris_peridem's side of the runner: a PeridemSimulation with its thermo columns, node frames, health
+// checks and stage changes (walls placed or set moving, gravity).
+class PeridemRunModel final : public RunModel {
+ public:
+  PeridemRunModel(PeridemSimulation sim, PeridemRunConfig cfg) : sim_(std::move(sim)), cfg_(std::move(cfg)) {
+    per_grain_ = grain_columns(sim_, cfg_.output);
+    const std::size_t n = thermo_columns().size();
+    terminal_ = n;
+    if (terminal_ > kTerminalColumns) {
+      terminal_ = kGlobalColumns;
+      for (std::size_t k = 0; k < sim_.grains().size(); ++k)
+        if (is_wall(sim_.grains(), k)) terminal_ += cfg_.dimension == 2 ? 2 : 3;
+    }
+    // Every wall a stage names must be a wall of this system (a restart's system comes from its checkpoint).
+    for (const PeridemStageChanges& c : cfg_.stage_changes)
+      for (const PeridemStageChanges::WallChange& w : c.walls) (void)wall_index(w);
+  }
+
+  long step_count() const override { return sim_.step_count(); }
+  double time() const override { return sim_.time(); }
+  void step() override { sim_.step(); }
+  std::size_t items() const override { return sim_.nodes().size(); }
+  const char* item_name() const override { return "node"; }
+
+  std::string health_check() override {
+    std::string problem = sim_.health_check();
+    if (problem.empty()) problem = sim_.explosion_check();
+    return problem;
+  }
+  std::vector<std::string> thermo_columns() const override {
+    return peridem_thermo_columns(sim_, cfg_.dimension, per_grain_);
+  }
+  std::vector<double> thermo_row() override {
+    const PeridemDiagnostics d = sim_.diagnostics();
+    return peridem_thermo_row(sim_, d, cfg_.dimension, per_grain_);
+  }
+  void print_thermo(const std::vector<std::string>& cols, const std::vector<double>& row, bool header) const override {
+    peridem_print_thermo(cols, row, terminal_, header);
+  }
+
+  void open_frames(const std::string& dir, const std::string& suffix) override {
+    trajectory_.emplace(dir, "trajectory" + suffix, sim_.nodes(), sim_.grains(), sim_.grain_names());
+    broken_fraction_.assign(sim_.nodes().size(), 0.0);
+  }
+  bool frame_due(long step) const override {
+    return cfg_.output.trajectory_every > 0 && step % cfg_.output.trajectory_every == 0;
+  }
+  void write_frame(bool) override {
+    sim_.refresh_damage(broken_fraction_.data());
+    trajectory_->write_frame(sim_.step_count(), sim_.time(), sim_.nodes(), broken_fraction_);
+  }
+  std::string frame_files(const std::string& suffix) const override { return "trajectory" + suffix + ".xmf + .h5"; }
+  void write_checkpoint(const std::string& path, const std::string& input) const override {
+    sim_.write_checkpoint(path, input);
+  }
+
+  std::string apply_stage(int k) override {
+    const PeridemStageChanges& c = cfg_.stage_changes[static_cast<std::size_t>(k)];
+    std::ostringstream os;
+    os << std::setprecision(6);
+    if (c.gravity) {
+      sim_.set_gravity(*c.gravity);
+      os << "gravity (" << c.gravity->x << ", " << c.gravity->y << ", " << c.gravity->z << ") m/s^2; ";
+    }
+    for (const PeridemStageChanges::WallChange& w : c.walls) {
+      const int g = wall_index(w);
+      Vec3 d{};
+      if (w.move_by) d = *w.move_by;
+      if (w.place_axis >= 0) {
+        const PdNodes& n = sim_.nodes();
+        const std::vector<double>& coord = w.place_axis == 0 ? n.x : (w.place_axis == 1 ? n.y : n.z);
+        const std::size_t gk = static_cast<std::size_t>(g);
+        double edge = coord[static_cast<std::size_t>(sim_.grains().node_begin[gk])];
+        for (int i = sim_.grains().node_begin[gk]; i < sim_.grains().node_end[gk]; ++i)
+          edge = w.place_max ? std::max(edge, coord[static_cast<std::size_t>(i)])
+                             : std::min(edge, coord[static_cast<std::size_t>(i)]);
+        (w.place_axis == 0 ? d.x : (w.place_axis == 1 ? d.y : d.z)) = w.place_at - edge;
+      }
+      if (w.move_by || w.place_axis >= 0) {
+        sim_.move_wall(g, d);
+        os << "wall " << w.name << " moved by (" << d.x << ", " << d.y << ", " << d.z << ") m; ";
+      }
+      if (w.velocity) {
+        sim_.set_wall_velocity(g, *w.velocity);
+        os << "wall " << w.name << " velocity (" << w.velocity->x << ", " << w.velocity->y << ", " << w.velocity->z
+           << ") m/s; ";
+      }
+    }
+    std::string what = os.str();
+    return what.empty() ? what : what.substr(0, what.size() - 2);
+  }
+
+  std::vector<PassTime> pass_times() const override {
+    const PeridemPassTimes& t = sim_.times();
+    return {{"integration", t.integration, ""},
+            {"neighbours", t.neighbours, "(" + std::to_string(t.rebuilds) + " contact list builds in all)"},
+            {"bonds", t.bonds, ""},
+            {"contact", t.contact, ""},
+            {"other", t.other, "(zero forces, gravity)"}};
+  }
+
+ private:
+  int wall_index(const PeridemStageChanges::WallChange& w) const {
+    const std::vector<std::string>& names = sim_.grain_names();
+    for (std::size_t k = 0; k < names.size(); ++k)
+      if (names[k] == w.name && is_wall(sim_.grains(), k)) return static_cast<int>(k);
+    throw input_error(w.key + ".name", w.name, "is not a wall of this system");
+  }
+
+  PeridemSimulation sim_;
+  PeridemRunConfig cfg_;
+  bool per_grain_ = false;
+  std::size_t terminal_ = 0;
+  std::optional<NodeTrajectoryWriter> trajectory_;
+  std::vector<double> broken_fraction_;
 };
 
-int run(const Options& opt) {
-  // The input: the file given, or on restart without one, the text the checkpoint keeps.
-  std::string input_text, input_name = opt.input;
+RunPlan prepare(const RunOptions& opt) {
+  // On restart the state and its physics come from the checkpoint; run.steps (a total), stages and output
+  // from the input.
+  std::string echo;
   std::optional<PeridemSimulation> restored;
-  if (!opt.restart.empty()) {
-    std::string echo;
-    restored.emplace(PeridemSimulation::from_checkpoint(opt.restart, &echo));
-    if (opt.input.empty()) {
-      input_text = echo;
-      input_name = opt.restart + " (input echo)";
-    }
-  }
-  if (input_text.empty()) input_text = read_input_file(opt.input);
-  const std::string base = opt.input.empty() ? std::string() : std::filesystem::path(opt.input).parent_path().string();
+  if (!opt.restart.empty()) restored.emplace(PeridemSimulation::from_checkpoint(opt.restart, &echo));
+  const InputSource in = input_source(opt, echo);
   PeridemInputOptions io;
   io.build_system = !restored;  // on restart the system comes from the checkpoint
   io.output_directory = opt.output;
-  PeridemRunConfig cfg = read_peridem_input_text(input_text, input_name, base, io);
+  PeridemRunConfig cfg = read_peridem_input_text(in.text, in.name, in.base_directory, io);
   exec::set_threads(opt.threads > 0 ? opt.threads : cfg.threads);
   std::cout << exec::startup_report() << "\n";
 
-  // The system is validated here (time step against the stable one, ...) before any output is opened. On
-  // restart the state and its physics come from the checkpoint; run.steps (a total) and output from the input.
+  // The system is validated here (time step against the stable one, ...) before any output is opened.
   std::optional<PeridemSimulation> built;
   if (!restored) {
     built.emplace(std::move(cfg.nodes), std::move(cfg.grains), cfg.materials, cfg.contact, cfg.settings);
     built->set_grain_names(cfg.grain_names);
   }
   PeridemSimulation& sim = restored ? *restored : *built;
-  const long first_step = sim.step_count();
-  if (restored) std::cout << "restarting from " << opt.restart << " at step " << first_step << "\n";
   std::cout << sim.summary() << "\n";
-  if (cfg.steps < first_step)
-    throw input_error("run.steps", std::to_string(cfg.steps),
-                      "is before the checkpoint's step " + std::to_string(first_step) + " (run.steps is a total)");
-
-  namespace fs = std::filesystem;
-  const fs::path dir = cfg.output.directory;
-  fs::create_directories(dir);
-  const bool per_grain = grain_columns(sim, cfg.output);
-  const auto cols = thermo_columns(sim, cfg.dimension, per_grain);
-  std::size_t terminal = cols.size();
-  if (terminal > kTerminalColumns) {
-    terminal = kGlobalColumns;
-    for (std::size_t k = 0; k < sim.grains().size(); ++k)
-      if (is_wall(sim.grains(), k)) terminal += cfg.dimension == 2 ? 2 : 3;
-  }
-  ThermoCsv thermo = restored ? ThermoCsv((dir / "thermo.csv").string(), cols, first_step)
-                              : ThermoCsv((dir / "thermo.csv").string(), cols);
-  const std::string suffix = restored ? ".restart" + std::to_string(first_step) : "";
-  NodeTrajectoryWriter trajectory(dir.string(), "trajectory" + suffix, sim.nodes(), sim.grains(), sim.grain_names());
-  const std::string checkpoint = (dir / "checkpoint.h5").string();
-  std::vector<double> broken_fraction(sim.nodes().size());
-
-  const auto t0 = Clock::now();
-  double output_seconds = 0.0;
-  long last_checkpoint = -1;
-  auto due = [&](long every, long step) { return every > 0 && step % every == 0; };
-  auto write_outputs = [&](bool final_step) {
-    const auto o0 = Clock::now();
-    const long step = sim.step_count();
-    const bool first = step == first_step;
-    if (due(cfg.output.thermo_every, step) || final_step || first) {
-      const PeridemDiagnostics d = sim.diagnostics();
-      const auto row = thermo_row(sim, d, cfg.dimension, per_grain);
-      if (!(restored && first)) thermo.write_row(row);
-      print_thermo(cols, row, terminal, first);
-    }
-    if (final_step || first || due(cfg.output.trajectory_every, step)) {
-      sim.refresh_damage(broken_fraction.data());
-      trajectory.write_frame(step, sim.time(), sim.nodes(), broken_fraction);
-    }
-    if ((final_step || due(cfg.output.checkpoint_every, step)) && step != last_checkpoint && !(restored && first)) {
-      sim.write_checkpoint(checkpoint, input_text);
-      last_checkpoint = step;
-    }
-    output_seconds += std::chrono::duration<double>(Clock::now() - o0).count();
-  };
-
-  write_outputs(cfg.steps == first_step);
-  Progress progress(first_step, cfg.steps, std::cout, cfg.output.progress_seconds);
-  while (sim.step_count() < cfg.steps) {
-    sim.step();
-    const long step = sim.step_count();
-    const bool final_step = step == cfg.steps;
-    // Checked before anything is written from this step, so a checkpoint never holds a broken state.
-    if (final_step || due(cfg.output.thermo_every, step) || due(cfg.output.trajectory_every, step) ||
-        due(cfg.output.checkpoint_every, step)) {
-      std::string problem = sim.health_check();
-      if (problem.empty()) problem = sim.explosion_check();
-      if (!problem.empty()) {
-        std::cerr << "debris_peridem: stopped: " << problem << "\n"
-                  << "debris_peridem: the last good checkpoint is "
-                  << (last_checkpoint >= 0 ? checkpoint + " (step " + std::to_string(last_checkpoint) + ")"
-                                           : std::string("none (set output.checkpoint_every)"))
-                  << std::endl;
-        return kExitUnstable;
-      }
-    }
-    write_outputs(final_step);
-    progress.update(step, sim.nodes().size());
-  }
-
-  const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
-  const PeridemPassTimes& pt = sim.times();
-  const double steps = static_cast<double>(cfg.steps - first_step);
-  auto line = [&](const char* name, double s, const std::string& extra = "") {
-    std::cout << std::left << std::setw(13) << name << std::right << std::setw(10) << std::fixed << std::setprecision(3)
-              << s << std::setw(8) << std::setprecision(1) << (wall > 0 ? 100 * s / wall : 0) << "%" << extra << "\n"
-              << std::defaultfloat;
-  };
-  std::cout << "\npass            seconds   share\n";
-  line("integration", pt.integration);
-  line("neighbours", pt.neighbours, "  (" + std::to_string(pt.rebuilds) + " contact list builds)");
-  line("bonds", pt.bonds);
-  line("contact", pt.contact);
-  line("other", pt.other);
-  line("output", output_seconds, "  (thermo, trajectory, checkpoints)");
-  std::ostringstream rate;
-  rate << "  " << std::setprecision(3) << (wall > 0 ? static_cast<double>(sim.nodes().size()) * steps / wall / 1e6 : 0)
-       << " M node-steps/s";
-  line("total", wall, rate.str());
-  std::cout << "output written to " << dir.string() << "/ (thermo.csv, trajectory" << suffix
-            << ".xmf + .h5, checkpoint.h5)\n";
-  return 0;
+  RunPlan plan;
+  plan.restored = restored.has_value();
+  plan.input_text = in.text;
+  plan.steps = cfg.steps;
+  plan.stages = cfg.stages;
+  plan.dt = sim.dt();
+  plan.directory = cfg.output.directory;
+  plan.thermo_every = cfg.output.thermo_every;
+  plan.checkpoint_every = cfg.output.checkpoint_every;
+  plan.progress_seconds = cfg.output.progress_seconds;
+  plan.model = std::make_unique<PeridemRunModel>(std::move(sim), std::move(cfg));
+  return plan;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"debris_peridem: PeriDEM (peridynamic grains with DEM contact, paper B) on host threads or a GPU"};
-  Options opt;
-  app.add_option("-i,--input", opt.input, "YAML input file");
-  app.add_option("-o,--output", opt.output, "output directory (overrides output.directory)");
-  app.add_option("--restart", opt.restart,
-                 "continue from a checkpoint (state and physics from it; run.steps, a total, and output from -i or "
-                 "the input it keeps)");
-  app.add_option("--threads", opt.threads, "number of host threads (overrides run.threads)")
-      ->check(CLI::NonNegativeNumber);
-  CLI11_PARSE(app, argc, argv);
-  if (opt.input.empty() && opt.restart.empty()) {
-    std::cerr << "debris_peridem: give an input file (-i run.yaml) or a checkpoint (--restart checkpoint.h5); --help "
-                 "for more\n";
-    return kExitInput;
-  }
-  try {
-    return run(opt);
-  } catch (const debris::InputError& e) {
-    std::cerr << "debris_peridem: " << e.what() << std::endl;
-    return kExitInput;
-  } catch (const std::exception& e) {
-    std::cerr << "debris_peridem: error: " << e.what() << std::endl;
-    return 1;
-  }
+  return debris::run_main(
+      argc, argv, "debris_peridem",
+      "debris_peridem: PeriDEM (peridynamic grains with DEM contact, paper B) on host threads or a GPU", prepare);
 }
