@@ -32,6 +32,21 @@ void Particles::permute(const std::vector<int>& order) {
   });
 }
 
+std::size_t Particles::remove_if(const std::vector<char>& remove) {
+  const std::size_t n = size();
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < n; ++i) kept += remove[i] ? 0 : 1;
+  if (kept == n) return 0;
+  // In place: each column is compacted front to back (the write index never passes the read index).
+  for_each_column([&remove, n](const char*, auto& col) {
+    std::size_t w = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (!remove[i]) col[w++] = col[i];
+    col.resize(w);
+  });
+  return n - kept;
+}
+
 std::int64_t Particles::max_id() const {
   return id.empty() ? -1 : *std::max_element(id.begin(), id.end());
 }

@@ -5,6 +5,7 @@
 // follow a particle (contact history, groups, output) goes through the id.
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace debris {
@@ -20,7 +21,8 @@ namespace debris {
 #define DEBRIS_PARTICLE_INT_FIELDS(X) \
   X(type)              /* material / output type, >= 1 as in LAMMPS */              \
   X(group)             /* index of the motion group, -1 for a free particle */      \
-  X(ix) X(iy) X(iz)    /* periodic image counts, for unwrapped positions */
+  X(ix) X(iy) X(iz)    /* periodic image counts, for unwrapped positions */      \
+  X(label)             /* body the particle started in: 0 = none, k = label_names[k-1] */
 #define DEBRIS_PARTICLE_ID_FIELDS(X) X(id)
 // clang-format on
 
@@ -36,6 +38,11 @@ class Particles {
   DEBRIS_PARTICLE_ID_FIELDS(DEBRIS_DECLARE_COLUMN)
 #undef DEBRIS_DECLARE_COLUMN
 
+  /// What the label column means: label k >= 1 is label_names[k - 1]; 0 is an unlabelled particle. Not a
+  /// column (one entry per label, not per particle), but it travels with the particles it describes, so
+  /// every copy, writer and checkpoint that has the column has its legend too.
+  std::vector<std::string> label_names;
+
   std::size_t size() const { return id.size(); }
   void resize(std::size_t n);
   void clear() { resize(0); }
@@ -45,6 +52,10 @@ class Particles {
 
   /// Reorders every column: new index i holds the particle that was at order[i].
   void permute(const std::vector<int>& order);
+
+  /// Deletes every particle i with remove[i] != 0, keeping the others in their order (all columns).
+  /// Returns the number removed.
+  std::size_t remove_if(const std::vector<char>& remove);
 
   /// Largest permanent id (or -1 when empty).
   std::int64_t max_id() const;

@@ -255,10 +255,14 @@ Particles sample(int frame) {
     p.vx[i] = 0.1 * k * s, p.vy[i] = -1e-300, p.vz[i] = 7.0;
     p.fx[i] = 1.0 / 9.0, p.fy[i] = -2.0 * k, p.fz[i] = 6.02214076e23 * s;
     p.group[i] = static_cast<int>(i % 3) - 1;  // -1, 0, 1, -1
+    p.wx[i] = -k / 11.0 * s, p.wy[i] = 2.5e12, p.wz[i] = -0.0;
+    p.ix[i] = static_cast<int>(i) - 2, p.iy[i] = frame, p.iz[i] = 1000 * static_cast<int>(i);
+    p.label[i] = static_cast<int>(i % 3);  // 0 (unlabelled), 1, 2, 0
   }
+  p.label_names = {"bottom slab", "junction"};
   if (frame == 2) {  // N changes: one more particle, with the smallest id
     p.add(1, 2, 9.0, 8.0, 7.0, 0.75);
-    p.vx[4] = 1.0, p.fz[4] = -3.0, p.group[4] = 1;
+    p.vx[4] = 1.0, p.fz[4] = -3.0, p.group[4] = 1, p.wy[4] = 4.0, p.ix[4] = -7, p.label[4] = 2;
   }
   return p;
 }
@@ -301,6 +305,12 @@ TEST(TrajectoryWriter, FramesReadBackExactlySortedById) {
                             frc = g.read<double>("force"), rad = g.read<double>("radius");
     const h5::Array<std::int64_t> id = g.read<std::int64_t>("id");
     const h5::Array<std::int32_t> type = g.read<std::int32_t>("type"), group = g.read<std::int32_t>("group");
+    const h5::Array<double> omega = g.read<double>("angular_velocity");
+    const h5::Array<std::int32_t> image = g.read<std::int32_t>("image"), label = g.read<std::int32_t>("label");
+    EXPECT_EQ(g.read_strings("label_names"), p.label_names);
+    EXPECT_EQ(omega.shape, (h5::Shape{n, 3}));
+    EXPECT_EQ(image.shape, (h5::Shape{n, 3}));
+    EXPECT_EQ(label.shape, (h5::Shape{n}));
     EXPECT_EQ(pos.shape, (h5::Shape{n, 3}));
     EXPECT_EQ(vel.shape, (h5::Shape{n, 3}));
     EXPECT_EQ(frc.shape, (h5::Shape{n, 3}));
@@ -320,6 +330,11 @@ TEST(TrajectoryWriter, FramesReadBackExactlySortedById) {
                 (std::vector<double>{p.vx[i], p.vy[i], p.vz[i]})) << r;
       EXPECT_EQ((std::vector<double>(frc.values.begin() + 3 * r, frc.values.begin() + 3 * r + 3)),
                 (std::vector<double>{p.fx[i], p.fy[i], p.fz[i]})) << r;
+      EXPECT_EQ((std::vector<double>(omega.values.begin() + 3 * r, omega.values.begin() + 3 * r + 3)),
+                (std::vector<double>{p.wx[i], p.wy[i], p.wz[i]})) << r;
+      EXPECT_EQ((std::vector<std::int32_t>(image.values.begin() + 3 * r, image.values.begin() + 3 * r + 3)),
+                (std::vector<std::int32_t>{p.ix[i], p.iy[i], p.iz[i]})) << r;
+      EXPECT_EQ(label.values[r], p.label[i]) << r;
       if (r > 0) EXPECT_LT(id.values[r - 1], id.values[r]);
     }
   }
@@ -329,6 +344,9 @@ TEST(TrajectoryWriter, FramesReadBackExactlySortedById) {
   EXPECT_EQ(g0.read<std::int32_t>("type").values, (std::vector<std::int32_t>{1, 3, 1, 2}));
   EXPECT_EQ(g0.read<std::int32_t>("group").values, (std::vector<std::int32_t>{0, -1, 1, -1}));
   EXPECT_EQ(g0.read<double>("radius").values, (std::vector<double>{0.5, 0.125, 0.25, 1.0 / 3.0}));
+  EXPECT_EQ(g0.read<std::int32_t>("label").values, (std::vector<std::int32_t>{1, 0, 2, 0}));
+  EXPECT_EQ(g0.read<std::int32_t>("image").values, (std::vector<std::int32_t>{-1, 0, 1000, 1, 0, 3000, 0, 0, 2000, -2, 0, 0}));
+  EXPECT_EQ(g0.read_strings("label_names"), (std::vector<std::string>{"bottom slab", "junction"}));
   const std::vector<double> p0 = g0.read<double>("position").values;
   EXPECT_EQ((std::vector<double>(p0.begin(), p0.begin() + 3)), (std::vector<double>{-1.0 / 7.0, 2.5, 1e-9}));
   EXPECT_EQ(f.read<std::int64_t>("frames/2/id").values, (std::vector<std::int64_t>{1, 4, 9, 17, 30}));
@@ -360,13 +378,13 @@ TEST(TrajectoryWriter, XmfListsEveryFrameWithRelativeReferences) {
                         frame + "position</DataItem>"),
               std::string::npos)
         << body;
-    for (const char* s : {"id", "type", "radius", "group"}) {
+    for (const char* s : {"id", "type", "radius", "group", "label"}) {
       EXPECT_NE(body.find(std::string("<Attribute Name=\"") + s + "\" AttributeType=\"Scalar\" Center=\"Node\">"),
                 std::string::npos) << s;
       EXPECT_NE(body.find("Dimensions=\"" + n + "\""), std::string::npos) << s;
       EXPECT_NE(body.find(">" + frame + s + "</DataItem>"), std::string::npos) << s;
     }
-    for (const char* v : {"velocity", "force"}) {
+    for (const char* v : {"velocity", "force", "angular_velocity"}) {
       EXPECT_NE(body.find(std::string("<Attribute Name=\"") + v + "\" AttributeType=\"Vector\" Center=\"Node\">"),
                 std::string::npos) << v;
       EXPECT_NE(body.find("<DataItem Dimensions=\"" + n + " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" +
@@ -374,6 +392,10 @@ TEST(TrajectoryWriter, XmfListsEveryFrameWithRelativeReferences) {
                 std::string::npos) << v;
     }
     EXPECT_NE(body.find("NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">" + frame + "id<"), std::string::npos);
+    EXPECT_NE(body.find("<Attribute Name=\"image\" AttributeType=\"Vector\" Center=\"Node\">"), std::string::npos);
+    EXPECT_NE(body.find("<DataItem Dimensions=\"" + n + " 3\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" +
+                        frame + "image</DataItem>"),
+              std::string::npos) << body;
   }
   // Every reference is the bare file name: no directory part, relative to the .xmf.
   const std::regex ref_re(">([^<>]*):/frames/");
@@ -381,7 +403,7 @@ TEST(TrajectoryWriter, XmfListsEveryFrameWithRelativeReferences) {
   for (auto it = std::sregex_iterator(x.begin(), x.end(), ref_re); it != std::sregex_iterator(); ++it, ++refs) {
     EXPECT_EQ((*it)[1].str(), "run.h5");
   }
-  EXPECT_EQ(refs, 3 * 7);
+  EXPECT_EQ(refs, 3 * 10);
 }
 
 TEST(TrajectoryWriter, NewWriterTruncatesAndListsNoFrame) {

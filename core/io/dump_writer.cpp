@@ -35,12 +35,17 @@ void DumpWriter::write_frame(long step, const Box& box, const Particles& p) {
     append_number(text, h);
     text += '\n';
   }
-  text += "ITEM: ATOMS id type x y z radius vx vy vz fx fy fz\n";
+  text += "ITEM: ATOMS id type x y z radius vx vy vz fx fy fz omegax omegay omegaz ix iy iz mol\n";
   for (std::size_t k : order) {
     append_number(text, p.id[k]);
     text += ' ';
     append_number(text, p.type[k]);
-    for (double v : {p.x[k], p.y[k], p.z[k], p.radius[k], p.vx[k], p.vy[k], p.vz[k], p.fx[k], p.fy[k], p.fz[k]}) {
+    for (double v : {p.x[k], p.y[k], p.z[k], p.radius[k], p.vx[k], p.vy[k], p.vz[k], p.fx[k], p.fy[k], p.fz[k],
+                     p.wx[k], p.wy[k], p.wz[k]}) {
+      text += ' ';
+      append_number(text, v);
+    }
+    for (int v : {p.ix[k], p.iy[k], p.iz[k], p.label[k]}) {
       text += ' ';
       append_number(text, v);
     }

@@ -1,6 +1,10 @@
 #pragma once
 // Snapshots as LAMMPS `dump custom` text frames, the format OVITO opens directly:
-//   ITEM: ATOMS id type x y z radius vx vy vz fx fy fz
+//   ITEM: ATOMS id type x y z radius vx vy vz fx fy fz omegax omegay omegaz ix iy iz mol
+// with LAMMPS's names, so OVITO maps them to its standard properties: omega* the angular velocity, ix iy iz
+// the periodic image counts (OVITO's "Periodic Image", for unwrapped trajectories), mol the particle's label
+// (Particles::label, the body it started in: 0 none, k = label_names[k-1]; OVITO's "Molecule Identifier",
+// for colouring by body). New columns go at the end, so readers that count columns keep working.
 // One file holds every frame of a run; each frame is flushed, so a killed run keeps what it wrote.
 #include <fstream>
 #include <string>

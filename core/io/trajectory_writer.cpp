@@ -19,7 +19,7 @@ TrajectoryWriter::TrajectoryWriter(const std::string& dir, const std::string& st
   xdmf::check_stem(stem);
   try {
     h5::File file(h5_path_, h5::File::Mode::create, {.file_locking = false, .group_leaf_k = xdmf::kFramesPerLeaf / 2});
-    file.set_string_attribute("format", "debris trajectory 1: frames/<k>/{position,id,type,radius,velocity,force,group}");
+    file.set_string_attribute("format", "debris trajectory 1: frames/<k>/{position,id,type,radius,velocity,force,group,angular_velocity,image,label,label_names}");
     file.write_strings("group_names", group_names_);
     file.create_group("frames", {.reserved_name_bytes = xdmf::kFrameNameBytes});
     file.flush();
@@ -36,15 +36,18 @@ void TrajectoryWriter::write_frame(long step, double time, const Box& box, const
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::sort(order.begin(), order.end(), [&p](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
 
-  std::vector<double> position(3 * n), velocity(3 * n), force(3 * n), radius(n);
+  std::vector<double> position(3 * n), velocity(3 * n), force(3 * n), omega(3 * n), radius(n);
   std::vector<std::int64_t> id(n);
-  std::vector<std::int32_t> type(n), group(n);
+  std::vector<std::int32_t> type(n), group(n), image(3 * n), label(n);
   const int groups = static_cast<int>(group_names_.size());
   for (std::size_t r = 0; r < n; ++r) {
     const std::size_t i = order[r];
     position[3 * r] = p.x[i], position[3 * r + 1] = p.y[i], position[3 * r + 2] = p.z[i];
     velocity[3 * r] = p.vx[i], velocity[3 * r + 1] = p.vy[i], velocity[3 * r + 2] = p.vz[i];
     force[3 * r] = p.fx[i], force[3 * r + 1] = p.fy[i], force[3 * r + 2] = p.fz[i];
+    omega[3 * r] = p.wx[i], omega[3 * r + 1] = p.wy[i], omega[3 * r + 2] = p.wz[i];
+    image[3 * r] = p.ix[i], image[3 * r + 1] = p.iy[i], image[3 * r + 2] = p.iz[i];
+    label[r] = p.label[i];
     radius[r] = p.radius[i];
     id[r] = p.id[i];
     type[r] = p.type[i];
@@ -71,6 +74,11 @@ void TrajectoryWriter::write_frame(long step, double time, const Box& box, const
       g.write("velocity", velocity, n, 3);
       g.write("force", force, n, 3);
       g.write("group", group);
+      g.write("angular_velocity", omega, n, 3);
+      g.write("image", image, n, 3);
+      g.write("label", label);
+      // The legend of `label`, per frame: it travels with the particles (Particles::label_names).
+      g.write_strings("label_names", p.label_names);
       const Vec3 lo = box.lo(), hi = box.hi();
       g.set_attribute("step", static_cast<std::int64_t>(step));
       g.set_attribute("time", time);
@@ -100,8 +108,9 @@ void TrajectoryWriter::write_xmf() const {
       int precision;
     };
     for (const Field& a : {Field{"id", false, "Int", 8}, Field{"type", false, "Int", 4}, Field{"radius", false, "Float", 8},
-                           Field{"group", false, "Int", 4}, Field{"velocity", true, "Float", 8},
-                           Field{"force", true, "Float", 8}})
+                           Field{"group", false, "Int", 4}, Field{"label", false, "Int", 4},
+                           Field{"velocity", true, "Float", 8}, Field{"force", true, "Float", 8},
+                           Field{"angular_velocity", true, "Float", 8}, Field{"image", true, "Int", 4}})
       xdmf::attribute(x, a.name, a.vector, n, a.number_type, a.precision, frame + a.name);
     xdmf::end_frame(x);
   }

@@ -7,6 +7,10 @@
 //              /type, /group     N int32 (group -1 = none)
 //              /radius           N double
 //              /velocity, /force N x 3 double
+//              /angular_velocity N x 3 double
+//              /image            N x 3 int32     periodic image counts: unwrapped = position + image * box length
+//              /label            N int32         body the particle started in (0 = none, k = label_names[k-1])
+//              /label_names      strings         the legend of label (Particles::label_names)
 //   attributes of /frames/<k>: step (int64), time (double), box_lo, box_hi (3 doubles), periodic (3 int32)
 // <stem>.xmf lists every frame as one grid of a temporal collection, with the data referred to as
 // "<stem>.h5:/frames/<k>/...", a path relative to the .xmf, so the pair can be moved together.
@@ -34,7 +38,8 @@ class TrajectoryWriter {
   /// InputError ("output") if they cannot be created or `stem` holds a character XDMF cannot refer to.
   TrajectoryWriter(const std::string& dir, const std::string& stem, std::vector<std::string> group_names);
 
-  /// Appends frame frames(): positions, ids, types, radii, velocities, forces and groups sorted by id, then
+  /// Appends frame frames(): positions, ids, types, radii, velocities, forces, groups, angular velocities,
+  /// image counts and labels sorted by id, then
   /// rewrites the .xmf. N may change between frames. std::runtime_error (naming file and object) if
   /// HDF5 fails; std::invalid_argument if a particle's group has no name.
   void write_frame(long step, double time, const Box& box, const Particles& p);

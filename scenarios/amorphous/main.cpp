@@ -220,8 +220,9 @@ int run(const Options& opt) {
       const double E = spec.material.youngs_modulus;
       const std::string tag = "d0_" + number_tag(d0) + "_s_" + number_tag(s_value);
       std::cout << "\n=== sample " << tag << ": d0 = " << d0 << " d_c = " << spec.d0_absolute() << ", d in ["
-                << spec.d_s_absolute() << ", " << spec.d_l_absolute() << "], box " << spec.length << " x "
-                << spec.length << " x " << spec.width << " d0, s = " << s_value << ", seed " << spec.seed << "\n";
+                << spec.d_s_absolute() << ", " << spec.d_l_absolute() << "], box " << spec.box_length().x / spec.d0_absolute()
+                << " x " << spec.box_length().y / spec.d0_absolute() << " x "
+                << spec.box_length().z / spec.d0_absolute() << " d0, s = " << s_value << ", seed " << spec.seed << "\n";
 
       ThermoCsv relax((dir / ("relax_" + tag + ".csv")).string(), kRelaxColumns);
       const Vec3 len0 = spec.box_length();

@@ -90,6 +90,7 @@ double AmorphousSpec::d_l_absolute() const {
 }
 Vec3 AmorphousSpec::box_length() const {
   const double d = d0_absolute();
+  if (box.x > 0.0 || box.y > 0.0 || box.z > 0.0) return box_absolute ? box : d * box;
   return {length * d, length * d, width * d};
 }
 double AmorphousSpec::skin() const { return 0.1 * d_s_absolute(); }
@@ -130,7 +131,21 @@ void AmorphousSpec::validate() const {
                       "cannot be reached: must be in (0, 1), the spheres' volumes summed over the box volume (the "
                       "paper inserts up to 0.75)");
   const double min_len = min_periodic_length() / d0_absolute();
+  const bool general_box = box.x != 0.0 || box.y != 0.0 || box.z != 0.0;
+  if (general_box) {
+    const Vec3 in_d0 = (1.0 / d0_absolute()) * box_length();
+    for (double v : {in_d0.x, in_d0.y, in_d0.z}) {
+      const std::string given = "[" + format_value(box.x) + ", " + format_value(box.y) + ", " + format_value(box.z) + "]";
+      if (!(fin(v) && v > 0.0)) throw input_error("sample.box", given, "every length must be > 0");
+      if (v < min_len)
+        throw input_error("sample.box", given,
+                          "the box is too small: a length of " + format_value(v) +
+                              " d0 is below the " + format_value(min_len) +
+                              " d0 (2 (cutoff of two d_l particles + skin)) that debris's neighbour list needs");
+    }
+  }
   for (const auto& [key, value] : {std::pair{"sample.length", length}, std::pair{"sample.width", width}}) {
+    if (general_box) break;  // unused
     if (!(fin(value) && value > 0.0)) throw input_error(key, format_value(value), "must be > 0 (units of d0)");
     if (value < min_len)
       throw input_error(key, format_value(value),
@@ -208,6 +223,24 @@ void read_amorphous_sample_keys(const InputNode& sample, AmorphousSpec& s) {
                       "give one of d_l (units of d0) or d_l_fixed (units of d_c)");
   s.length = sample.quantity("length", units::dimensionless, s.length);
   s.width = sample.quantity("width", units::dimensionless, s.width);
+  if (sample.has("box")) {
+    if (sample.has("length") || sample.has("width"))
+      throw input_error("sample.box", "given with length/width", "give box: [Lx, Ly, Lz], or length and width");
+    const std::vector<InputNode> b = sample.list("box");
+    if (b.size() != 3) throw input_error("sample.box", std::to_string(b.size()) + " values", "give [Lx, Ly, Lz]");
+    // Plain numbers are in d0, like length and width; numbers with a unit are lengths.
+    int with_unit = 0;
+    for (const InputNode& e : b) {
+      const std::string t = e.text();
+      with_unit += t.find_first_not_of("0123456789.eE+- ") != std::string::npos ? 1 : 0;
+    }
+    if (with_unit != 0 && with_unit != 3)
+      throw input_error("sample.box", "[" + b[0].text() + ", " + b[1].text() + ", " + b[2].text() + "]",
+                        "give all three in d0 (plain numbers) or all three with a length unit");
+    s.box_absolute = with_unit == 3;
+    const units::Dimension dim = s.box_absolute ? units::length : units::dimensionless;
+    s.box = {b[0].quantity(dim), b[1].quantity(dim), b[2].quantity(dim)};
+  }
   s.volume_fraction = sample.quantity("volume_fraction", units::dimensionless, s.volume_fraction);
   const long seed = sample.integer("seed", static_cast<long>(s.seed));
   if (seed < 0) throw input_error("sample.seed", std::to_string(seed), "must be >= 0");
@@ -243,6 +276,9 @@ std::string amorphous_spec_key(const AmorphousSpec& s) {
      << " " << s.volume_fraction << " " << s.seed << "\nrelaxation " << s.time_step_fraction << " " << s.phase1_steps
      << " " << s.phase1_damping << " " << s.phase2_damping << " " << s.stress_threshold << " " << s.include_shear << " "
      << s.phase2_max_steps << " " << s.check_every << " " << s.box_relaxation_time << " " << s.max_box_strain << "\n";
+  // Only when used, so the keys of L x L x W samples (cached sample files) are unchanged.
+  if (s.box.x != 0.0 || s.box.y != 0.0 || s.box.z != 0.0)
+    os << "box " << s.box.x << " " << s.box.y << " " << s.box.z << (s.box_absolute ? " m" : " d0") << "\n";
   return os.str();
 }
 
@@ -353,6 +389,10 @@ long relax_phase2(DemSimulation& sim, const AmorphousSpec& spec, const Amorphous
         os << "the sample is too thin: at step " << s << " of phase 2 the box's "
            << "xyz"[a] << " length would shrink to " << next[a] << ", below the " << min_len
            << " = 2 (cutoff + skin) that the neighbour list needs; start from a larger box";
+        if (spec.box.x != 0.0 || spec.box.y != 0.0 || spec.box.z != 0.0)
+          throw input_error("sample.box", "[" + format_value(spec.box.x) + ", " + format_value(spec.box.y) + ", " +
+                                              format_value(spec.box.z) + "]",
+                            os.str());
         throw input_error(a == 2 ? "sample.width" : "sample.length", format_value(a == 2 ? spec.width : spec.length),
                           os.str());
       }
@@ -487,6 +527,7 @@ void write_amorphous_sample(const std::string& stem, const AmorphousSample& s, c
       g.write_scalar("d_l", spec.d_l_absolute());
       g.write_scalar("length_over_d0", spec.length);
       g.write_scalar("width_over_d0", spec.width);
+      g.write("box_over_d0", as_vector((1.0 / spec.d0_absolute()) * spec.box_length()));
       g.write_scalar("volume_fraction_target", spec.volume_fraction);
       g.write_scalar<std::int64_t>("seed", static_cast<std::int64_t>(spec.seed));
       g.write_scalar("stress_threshold_over_E", spec.stress_threshold);

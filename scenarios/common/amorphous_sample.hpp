@@ -70,6 +70,10 @@ struct AmorphousSpec {
   double d_l_fixed = 0.0;  // > 0: largest diameter in units of d_c, the same for every d0 (sections 3.3, A.4)
   double length = 30.0;    // L: box x and y, in d0 (paper: 100)
   double width = 4.0;      // W: box z, in d0 (paper: 3; see min_periodic_length())
+  // A general box [Lx, Ly, Lz] instead of L x L x W (section 4's 60 x 40 x 40 nm): all zero = unused;
+  // in d0, or in metres when box_absolute (an input's lengths with units: the same box for every d0).
+  Vec3 box{0, 0, 0};
+  bool box_absolute = false;
   double volume_fraction = 0.75;
   std::uint64_t seed = 1;
 
@@ -115,8 +119,10 @@ struct InsertedSpheres {
 InsertedSpheres insert_random_spheres(const AmorphousSpec& spec);
 
 /// Reads the sample keys the input files share (debris_amorphous, and debris_patch's `kind: amorphous`):
-/// d_s, d_l, d_l_fixed, length, width, volume_fraction, seed of `sample` (not d0, which may be a sweep),
-/// into `spec`, keeping its values for absent keys. InputError for d_l given together with d_l_fixed.
+/// d_s, d_l, d_l_fixed, length, width, box, volume_fraction, seed of `sample` (not d0, which may be a
+/// sweep), into `spec`, keeping its values for absent keys. `box: [Lx, Ly, Lz]` is plain numbers (in d0) or
+/// three lengths with units ("60 nm"). InputError for d_l given together with d_l_fixed, or box together
+/// with length or width.
 void read_amorphous_sample_keys(const InputNode& sample, AmorphousSpec& spec);
 /// Reads the `relaxation` section (time_step_fraction, phase1.{steps, damping}, phase2.{damping,
 /// stress_threshold, include_shear, max_steps, check_every, box_relaxation_time, max_box_strain}).

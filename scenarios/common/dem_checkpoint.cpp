@@ -78,6 +78,12 @@ void DemSimulation::write_checkpoint(const std::string& path, const std::string&
       const_cast<Particles&>(p_).for_each_column([&](const char* name, auto& col) { parts.write(name, col); });
     }
     {
+      // The legend of the particles' label column (label k is name k-1).
+      h5::Group labels = f.create_group("labels");
+      labels.set_attribute<std::int64_t>("size", static_cast<std::int64_t>(p_.label_names.size()));
+      if (!p_.label_names.empty()) labels.write_strings("name", p_.label_names);
+    }
+    {
       h5::Group groups = f.create_group("groups");
       std::vector<std::string> names;
       std::vector<std::int32_t> motion;
@@ -173,11 +179,17 @@ DemSimulation DemSimulation::from_checkpoint(const std::string& path, std::strin
   const h5::Group parts = f.open_group("particles");
   sim.p_.for_each_column([&](const char* name, auto& col) {
     using T = typename std::decay_t<decltype(col)>::value_type;
+    if (std::string(name) == "label" && !parts.has(name)) return;  // written before labels existed: all 0
     if constexpr (std::is_same_v<T, int>)
       col = parts.read<std::int32_t>(name).values;
     else
       col = parts.read<T>(name).values;
   });
+  if (sim.p_.label.size() != sim.p_.id.size()) sim.p_.label.assign(sim.p_.id.size(), 0);
+  if (f.has("labels")) {
+    const h5::Group labels = f.open_group("labels");
+    if (labels.attribute<std::int64_t>("size") > 0) sim.p_.label_names = labels.read_strings("name");
+  }
 
   const h5::Group groups = f.open_group("groups");
   const auto ng = groups.attribute<std::int64_t>("size");

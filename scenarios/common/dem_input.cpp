@@ -10,6 +10,7 @@
 #include "core/io/input.hpp"
 #include "core/io/lammps_data.hpp"
 #include "core/lattice.hpp"
+#include "core/region.hpp"
 
 namespace debris {
 
@@ -72,12 +73,63 @@ std::array<bool, 3> read_periodic(const InputNode& b) {
   return periodic;
 }
 
-// A region bound: a quantity, or -inf/inf (also min/max) for an open side.
-double read_bound(const InputNode& n) {
-  const std::string t = n.text();
-  if (t == "-inf" || t == "min") return -std::numeric_limits<double>::infinity();
-  if (t == "inf" || t == "+inf" || t == "max") return std::numeric_limits<double>::infinity();
-  return n.quantity(units::length);
+// The entries of a key that takes one item or a list of them.
+std::vector<InputNode> one_or_list(const InputNode& root, const std::string& key) {
+  return root.child(key).is_sequence() ? root.list(key) : std::vector<InputNode>{root.child(key)};
+}
+
+// `remove`: one region or a list; each deletes the particles still inside it, in order. Positions as read
+// (wrapped into the box on periodic axes, see core/region.hpp).
+void read_removal(const InputNode& root, DemRunConfig& cfg) {
+  if (!root.has("remove")) return;
+  Particles& p = cfg.particles;
+  std::vector<char> inside;
+  for (const InputNode& n : one_or_list(root, "remove")) {
+    const Region region = read_region(n, &cfg.box);
+    inside.assign(p.size(), 0);
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      inside[i] = region.contains({p.x[i], p.y[i], p.z[i]}) ? 1 : 0;
+      count += static_cast<std::size_t>(inside[i]);
+    }
+    const std::string key = n.path();
+    if (count == 0)
+      throw input_error(key, region.describe(),
+                        "the region removes no particle (of the " + std::to_string(p.size()) +
+                            " left): is it outside the box, or are its units off?");
+    if (count == p.size())
+      throw input_error(key, region.describe(),
+                        "the removal leaves no particle (it takes all " + std::to_string(count) + " that were left)");
+    p.remove_if(inside);
+  }
+}
+
+// `labels`: [{name, region}, ...], assigned in order, a later entry overriding an earlier one where they
+// overlap (paint the bodies, then the walls over them). Label k is entry k-1; 0 stays "unlabelled".
+void read_labels(const InputNode& root, DemRunConfig& cfg) {
+  if (!root.has("labels")) return;
+  Particles& p = cfg.particles;
+  std::fill(p.label.begin(), p.label.end(), 0);
+  p.label_names.clear();
+  std::vector<std::string> paths;
+  for (const InputNode& l : root.list("labels")) {
+    const std::string name = l.string("name");
+    if (name.empty()) throw input_error(l.path() + ".name", "\"\"", "a label needs a name");
+    if (std::find(p.label_names.begin(), p.label_names.end(), name) != p.label_names.end())
+      throw input_error(l.path() + ".name", name, "the name is already used by an earlier label");
+    const Region region = read_region(l.child("region"), &cfg.box);
+    p.label_names.push_back(name);
+    paths.push_back(l.path());
+    const int k = static_cast<int>(p.label_names.size());
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (region.contains({p.x[i], p.y[i], p.z[i]})) p.label[i] = k;
+  }
+  std::vector<long> count(p.label_names.size() + 1, 0);
+  for (int k : p.label) ++count[static_cast<std::size_t>(k)];
+  for (std::size_t k = 1; k < count.size(); ++k)
+    if (count[k] == 0)
+      throw input_error(paths[k - 1] + ".name", p.label_names[k - 1],
+                        "the label holds no particle (its region selects none, or later labels take them all)");
 }
 
 }  // namespace
@@ -121,22 +173,12 @@ void read_groups(const InputNode& root, DemRunConfig& cfg) {
     Group group;
     group.name = g.string("name");
     read_group_motion(g, cfg.box, group);
-    // Membership: a block region, particle types, or explicit ids (any combination narrows it down).
-    constexpr double inf = std::numeric_limits<double>::infinity();
-    double lo[3] = {-inf, -inf, -inf}, hi[3] = {inf, inf, inf};
+    // Membership: a region, particle types, or explicit ids (any combination narrows it down).
+    Region region;
     bool any_rule = false;
     if (g.has("region")) {
       any_rule = true;
-      const InputNode r = g.child("region");
-      for (int a = 0; a < 3; ++a) {
-        const std::string ax(1, "xyz"[a]);
-        if (!r.has(ax)) continue;
-        const std::vector<InputNode> b = r.list(ax);
-        if (b.size() != 2) throw input_error(r.path() + "." + ax, std::to_string(b.size()) + " values", "give [lo, hi]");
-        lo[a] = read_bound(b[0]);
-        hi[a] = read_bound(b[1]);
-        if (!(hi[a] > lo[a])) throw input_error(r.path() + "." + ax, "[" + format_value(lo[a]) + ", " + format_value(hi[a]) + "]", "hi must exceed lo");
-      }
+      region = read_region(g.child("region"), &cfg.box);
     }
     std::vector<long> types, ids;
     if (g.has("types")) {
@@ -153,9 +195,7 @@ void read_groups(const InputNode& root, DemRunConfig& cfg) {
     Particles& p = cfg.particles;
     long members = 0;
     for (std::size_t i = 0; i < p.size(); ++i) {
-      const double c[3] = {p.x[i], p.y[i], p.z[i]};
-      bool in = true;
-      for (int a = 0; a < 3; ++a) in = in && c[a] >= lo[a] && c[a] < hi[a];
+      bool in = region.contains({p.x[i], p.y[i], p.z[i]});
       if (!types.empty()) in = in && std::find(types.begin(), types.end(), p.type[i]) != types.end();
       if (!ids.empty()) in = in && std::find(ids.begin(), ids.end(), p.id[i]) != ids.end();
       if (!in) continue;
@@ -240,6 +280,12 @@ DemRunConfig read_dem_input(const InputNode& root, const std::string& base_direc
     cfg.box = Box(box_node.vec3("lo", units::length, cfg.box.lo()), box_node.vec3("hi", units::length, cfg.box.hi()),
                   periodic);
   }
+  // Regions test positions in the box (core/region.hpp): fold the periodic axes now, as the first
+  // neighbour build would (same arithmetic, so a run is unchanged), counting the crossings in ix/iy/iz.
+  cfg.box.wrap(cfg.particles);
+  // Carving, then labels, then groups, so that labels and groups see the carved system.
+  read_removal(root, cfg);
+  read_labels(root, cfg);
   read_groups(root, cfg);
 
   // Run control.

@@ -35,7 +35,11 @@ Particles frame(int k) {
     p.vx[i] = 1.0, p.vy[i] = -d, p.vz[i] = 0.0;
     p.fx[i] = 0.0, p.fy[i] = 0.0, p.fz[i] = -9.81 * d;
     p.group[i] = id < 10 ? 0 : -1;
+    p.wx[i] = d / 7.0, p.wy[i] = -0.5, p.wz[i] = 1e-3 * k;
+    p.ix[i] = static_cast<int>(id % 3) - 1, p.iy[i] = 0, p.iz[i] = k;
+    p.label[i] = static_cast<int>(id % 4);  // 0 = unlabelled
   }
+  p.label_names = {"bottom", "top", "junction"};
   return p;
 }
 
@@ -46,15 +50,19 @@ std::string expected_frame(const Particles& p) {
   std::vector<std::size_t> order(p.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::sort(order.begin(), order.end(), [&p](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
-  std::string ids, pos, rad;
+  std::string ids, pos, rad, label, omega, image;
   for (std::size_t i : order) {
     const std::string sep = ids.empty() ? "" : ", ";
     ids += sep + std::to_string(p.id[i]);
     pos += sep + "[" + num(p.x[i]) + ", " + num(p.y[i]) + ", " + num(p.z[i]) + "]";
     rad += sep + num(p.radius[i]);
+    label += sep + std::to_string(p.label[i]);
+    omega += sep + "[" + num(p.wx[i]) + ", " + num(p.wy[i]) + ", " + num(p.wz[i]) + "]";
+    image += sep + "[" + std::to_string(p.ix[i]) + ", " + std::to_string(p.iy[i]) + ", " + std::to_string(p.iz[i]) + "]";
   }
   return "{\"points\": " + std::to_string(p.size()) + ", \"id\": [" + ids + "], \"position\": [" + pos +
-         "], \"radius\": [" + rad + "]}";
+         "], \"radius\": [" + rad + "], \"label\": [" + label + "], \"angular_velocity\": [" + omega +
+         "], \"image\": [" + image + "]}";
 }
 
 }  // namespace
