@@ -325,6 +325,8 @@ DemRunConfig read_dem_input(const InputNode& root, const std::string& base_direc
   cfg.threads = static_cast<int>(run.integer("threads", 0));
   if (cfg.threads < 0) throw input_error("run.threads", std::to_string(cfg.threads), "must be >= 0");
 
+  if (root.has("wear")) cfg.wear = read_wear_settings(root.child("wear"));
+
   if (root.has("output")) {
     const InputNode out = root.child("output");
     cfg.output.directory = out.string("directory", cfg.output.directory);

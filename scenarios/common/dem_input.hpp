@@ -11,6 +11,7 @@
 #include "core/particles.hpp"
 #include "scenarios/common/dem_simulation.hpp"
 #include "scenarios/common/stages.hpp"
+#include "scenarios/common/wear_analysis.hpp"
 
 namespace debris {
 
@@ -62,6 +63,7 @@ struct DemRunConfig {
   bool overlap_limit_auto = false;
   std::vector<StageLength> stages;
   std::vector<DemStageChanges> stage_changes;  // one per stage
+  std::optional<WearSettings> wear;            // the wear analysis (wear.csv), when the input has `wear:`
   DemOutputSettings output;
 };
 

@@ -122,6 +122,9 @@ int run_plan(RunPlan& plan, const std::string& program, const RunOptions& opt, C
     progress.update(step, model.items());
   }
 
+  const std::string report = model.closing_report();
+  if (!report.empty()) std::cout << report << "\n";
+
   // The pass table: set-up, each pass while stepping, output, and the rest (checks, stage changes, the
   // loop itself), so the shares add up to the total.
   const double stepping = seconds_since(t0);

@@ -76,6 +76,9 @@ class RunModel {
 
   /// The passes' accumulated wall times (set-up included: the runner subtracts what they held after it).
   virtual std::vector<PassTime> pass_times() const = 0;
+
+  /// Printed at the end of a finished run, before the pass table (a verdict, a summary); may be empty.
+  virtual std::string closing_report() { return {}; }
 };
 
 /// What an executable's input and set-up hand to the runner.

@@ -6,6 +6,7 @@
 // and exit 2, before anything is written; a run whose state turns non-finite or explodes stops with exit 3,
 // a message naming the step and the particle, and keeps the last good checkpoint.
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -16,6 +17,7 @@
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/io/dump_writer.hpp"
+#include "core/io/thermo_csv.hpp"
 #include "core/io/trajectory_writer.hpp"
 #include "kernels/integrate.hpp"
 #include "scenarios/common/dem_input.hpp"
@@ -69,6 +71,7 @@ class DemRunModel final : public RunModel {
     } else {
       overlap_limit_ = cfg_.overlap_limit;
     }
+    if (cfg_.wear) wear_.emplace(*cfg_.wear, sim_);
   }
   std::string describe() const {
     std::ostringstream os;
@@ -79,7 +82,10 @@ class DemRunModel final : public RunModel {
 
   long step_count() const override { return sim_.step_count(); }
   double time() const override { return sim_.time(); }
-  void step() override { sim_.step(); }
+  void step() override {
+    sim_.step();
+    if (wear_ && sim_.step_count() % cfg_.wear->every == 0) sample_wear();
+  }
   std::size_t items() const override { return sim_.particles().size(); }
   const char* item_name() const override { return "particle"; }
 
@@ -106,6 +112,16 @@ class DemRunModel final : public RunModel {
     std::vector<std::string> names;
     for (const Group& g : sim_.groups().list) names.push_back(g.name);
     trajectory_.emplace(dir, "trajectory" + suffix, names);
+    if (wear_) {
+      // A restart continues wear.csv, but the analysis starts afresh: bonds count from the restart on.
+      const std::string path = (fs::path(dir) / "wear.csv").string();
+      wear_csv_.emplace(suffix.empty() ? ThermoCsv(path, WearAnalysis::columns())
+                                       : ThermoCsv(path, WearAnalysis::columns(), sim_.step_count()));
+      if (!suffix.empty())
+        std::cout << "wear analysis: starts afresh at the restart (bonds count after "
+                  << cfg_.wear->persistence << " s from here)\n";
+      sample_wear(suffix.empty());  // a restart's first sample: its row is already in wear.csv
+    }
   }
   bool frame_due(long step) const override { return due(cfg_.output.dump_every, step) || due(trajectory_every(), step); }
   void write_frame(bool every_stream) override {
@@ -115,7 +131,7 @@ class DemRunModel final : public RunModel {
       trajectory_->write_frame(step, sim_.time(), sim_.box(), sim_.particles());
   }
   std::string frame_files(const std::string& suffix) const override {
-    return "dump" + suffix + ".lammpstrj, trajectory" + suffix + ".xmf + .h5";
+    return "dump" + suffix + ".lammpstrj, trajectory" + suffix + ".xmf + .h5" + (wear_ ? ", wear.csv" : "");
   }
   void write_checkpoint(const std::string& path, const std::string& input) const override {
     sim_.write_checkpoint(path, input);
@@ -152,14 +168,24 @@ class DemRunModel final : public RunModel {
 
   std::vector<PassTime> pass_times() const override {
     const PassTimes& t = sim_.times();
-    return {{"neighbours", t.neighbours, "(" + std::to_string(t.rebuilds) + " rebuilds in all, binning included)"},
-            {"contact", t.contact, ""},
-            {"integration", t.integration, ""},
-            {"groups/damp", t.other, ""}};
+    std::vector<PassTime> rows{
+        {"neighbours", t.neighbours, "(" + std::to_string(t.rebuilds) + " rebuilds in all, binning included)"},
+        {"contact", t.contact, ""},
+        {"integration", t.integration, ""},
+        {"groups/damp", t.other, ""}};
+    if (wear_) rows.push_back({"wear", wear_seconds_, "(bonds, clusters, rigid fits: wear.csv)"});
+    return rows;
   }
+  std::string closing_report() override { return wear_ ? wear_->report() : std::string(); }
 
  private:
   static bool due(long every, long step) { return every > 0 && step % every == 0; }
+  void sample_wear(bool write = true) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const WearSample& w = wear_->sample(sim_);
+    if (wear_csv_ && write) wear_csv_->write_row(WearAnalysis::row(w));
+    wear_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
   static const char* motion_name(GroupMotion m) {
     switch (m) {
       case GroupMotion::free: return "free";
@@ -180,6 +206,9 @@ class DemRunModel final : public RunModel {
   long diag_step_ = -1;
   std::optional<DumpWriter> dump_;
   std::optional<TrajectoryWriter> trajectory_;
+  std::optional<WearAnalysis> wear_;
+  std::optional<ThermoCsv> wear_csv_;
+  double wear_seconds_ = 0;
 };
 
 RunPlan prepare(const RunOptions& opt) {

@@ -1,0 +1,170 @@
+// The wear analysis (scenarios/common/wear_analysis.hpp) on systems whose answer is known by construction:
+// a cohesive ball set rolling without slip between a fixed and a moving wall (out of their reach) is a
+// third body with centre speed 1/2 of the wall's and rolling number 1; the same ball sliding without spin is
+// a third body that does not roll; one cohesive block between the walls has no third body at all.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/lattice.hpp"
+#include "scenarios/common/dem_simulation.hpp"
+#include "scenarios/common/wear_analysis.hpp"
+
+namespace debris {
+namespace {
+
+constexpr double kWallSpeed = 0.01;  // Table 4 units: 1% of the wave speed sqrt(E / rho) = 1
+
+// An FCC lattice (spacing 100) in a 7 x 14 x 7 cell box, periodic in x and z: a bottom wall (2 rows), a top
+// wall (2 rows) and either a ball of radius 260 about the centre (`ball`) or the whole block between them.
+struct JunctionSystem {
+  Box box;
+  Particles particles;
+  Groups groups;
+};
+
+JunctionSystem make_system(bool ball) {
+  LatticeSpec spec;
+  spec.kind = LatticeKind::fcc;
+  spec.spacing = 100;
+  spec.diameter = 100;
+  spec.cells = {7, 14, 7};
+  Lattice lat = make_lattice(spec);
+  JunctionSystem s;
+  s.box = Box(lat.box.lo(), lat.box.hi(), {true, false, true});
+  Particles& p = lat.particles;
+  const Vec3 c = 0.5 * (lat.box.lo() + lat.box.hi());
+  const double y_hi = lat.box.hi().y;
+  std::vector<char> remove(p.size(), 0);
+  Group bottom{"bottom", GroupMotion::frozen};
+  Group top{"top", GroupMotion::velocity, Vec3{kWallSpeed, 0, 0}};
+  s.groups.add(bottom);
+  s.groups.add(top);
+  p.label_names = {"junction"};
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec3 x{p.x[i], p.y[i], p.z[i]};
+    if (x.y < 150) {
+      p.group[i] = 0;
+    } else if (x.y > y_hi - 150) {
+      p.group[i] = 1;
+    } else if (norm(x - c) < 260 || (!ball && x.y > 400 && x.y < y_hi - 400)) {
+      p.label[i] = 1;  // the junction: the ball, or the middle of the block
+    } else if (ball) {
+      remove[i] = 1;
+    }
+  }
+  p.remove_if(remove);
+  s.particles = std::move(p);
+  return s;
+}
+
+DemSettings settings() {
+  DemSettings s;
+  s.material = table4_material();
+  s.material.restitution = 1.0;
+  s.time_step_fraction = 0.1;
+  return s;
+}
+
+// Sets the labelled body moving rigidly: centre velocity v_c along x, spin w about z.
+void set_body_motion(DemSimulation& sim, double v_c, double w) {
+  Particles& p = sim.particles();
+  Vec3 c{};
+  double m = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.label[i] == 1) {
+      c += p.mass[i] * Vec3{p.x[i], p.y[i], p.z[i]};
+      m += p.mass[i];
+    }
+  c = (1.0 / m) * c;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.label[i] != 1) continue;
+    const Vec3 v = Vec3{v_c, 0, 0} + cross(Vec3{0, 0, w}, Vec3{p.x[i], p.y[i], p.z[i]} - c);
+    p.vx[i] = v.x;
+    p.vy[i] = v.y;
+    p.vz[i] = v.z;
+    p.wz[i] = w;
+  }
+  sim.recompute_forces();
+}
+
+// Half the body's height along y, radii included: the R of the rolling number.
+double half_height(const Particles& p) {
+  double lo = 1e300, hi = -1e300;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.label[i] == 1) {
+      lo = std::min(lo, p.y[i] - p.radius[i]);
+      hi = std::max(hi, p.y[i] + p.radius[i]);
+    }
+  return 0.5 * (hi - lo);
+}
+
+WearSettings wear_settings(double dt) {
+  WearSettings w;
+  w.every = 100;
+  w.bottom_wall = "bottom";
+  w.top_wall = "top";
+  w.junction_label = "junction";
+  w.persistence = 300 * dt;
+  w.window = 600 * dt;
+  return w;
+}
+
+WearAnalysis run(DemSimulation& sim, long steps) {
+  WearAnalysis wear(wear_settings(sim.dt()), sim);
+  wear.sample(sim);
+  for (long s = 1; s <= steps; ++s) {
+    sim.step();
+    if (s % 100 == 0) wear.sample(sim);
+  }
+  return wear;
+}
+
+TEST(WearAnalysis, BallRollingWithoutSlipIsARollingWearParticle) {
+  JunctionSystem s = make_system(true);
+  DemSimulation sim(s.box, std::move(s.particles), std::move(s.groups), settings());
+  // Rolling without slip between a fixed floor and a roof moving at v: centre at v/2, spin -v / (2R) about
+  // z (clockwise seen from +z when the roof moves to +x), so 2 R omega / v = 1 about n x s = y x x = -z.
+  const double R = half_height(sim.particles());
+  set_body_motion(sim, 0.5 * kWallSpeed, -kWallSpeed / (2 * R));
+  const WearAnalysis wear = run(sim, 1500);
+  const WearSample& last = wear.samples().back();
+  EXPECT_EQ(wear.verdict(), WearVerdict::rolling) << wear.report();
+  EXPECT_FALSE(last.walls_joined);
+  EXPECT_NEAR(last.third_volume, 1.0, 1e-12);  // the ball is the whole junction
+  EXPECT_EQ(last.third_from_junction, 1.0);
+  EXPECT_NEAR(last.mean_centre_speed, 0.5, 0.01);
+  EXPECT_NEAR(last.mean_rolling_number, 1.0, 0.05);
+  EXPECT_LT(last.mean_residual, 0.05);
+  // Bonds count only after the persistence time: until then every particle is its own cluster, and the
+  // third body appears at the first sample past it (step 300) and stays.
+  EXPECT_EQ(wear.samples()[2].third_particles, 1);
+  EXPECT_EQ(wear.detection_index(), 3);
+}
+
+TEST(WearAnalysis, BallSlidingWithoutSpinIsDetachedButDoesNotRoll) {
+  JunctionSystem s = make_system(true);
+  DemSimulation sim(s.box, std::move(s.particles), std::move(s.groups), settings());
+  set_body_motion(sim, 0.5 * kWallSpeed, 0.0);
+  const WearAnalysis wear = run(sim, 1500);
+  const WearSample& last = wear.samples().back();
+  EXPECT_EQ(wear.verdict(), WearVerdict::detached) << wear.report();
+  EXPECT_NEAR(last.mean_centre_speed, 0.5, 0.01);
+  EXPECT_NEAR(last.mean_rolling_number, 0.0, 0.02);
+}
+
+TEST(WearAnalysis, OneBondedBlockHasNoThirdBody) {
+  JunctionSystem s = make_system(false);
+  DemSimulation sim(s.box, std::move(s.particles), std::move(s.groups), settings());
+  const WearAnalysis wear = run(sim, 1000);
+  const WearSample& last = wear.samples().back();
+  EXPECT_EQ(wear.verdict(), WearVerdict::ductile) << wear.report();
+  EXPECT_TRUE(last.walls_joined);
+  EXPECT_EQ(last.third_particles, 0);
+  EXPECT_NEAR(last.junction_in_bottom, 1.0, 1e-12);
+  EXPECT_NEAR(last.junction_in_top, 1.0, 1e-12);
+  EXPECT_GT(last.bonded_pairs, 6 * static_cast<long>(sim.particles().size()) / 2 - 1);  // FCC: 12 bonds each
+}
+
+}  // namespace
+}  // namespace debris
