@@ -67,6 +67,8 @@ TEST(AmorphousBox, BadBoxesNameTheKey) {
   EXPECT_NE(msg("{box: [5, 4, 2]}").find("'sample.box' = [5, 4, 2]: the box is too small"), std::string::npos)
       << msg("{box: [5, 4, 2]}");
   EXPECT_NE(msg("{box: [5, -4, 4]}").find("'sample.box'"), std::string::npos);
+  EXPECT_NE(msg("{box: [-5, -4, -4]}").find("'sample.box' = [-5, -4, -4]: every length must be > 0"), std::string::npos)
+      << msg("{box: [-5, -4, -4]}");
   EXPECT_NE(msg("{box: [5 GPa, 4 GPa, 4 GPa]}").find("box[0]' = '5 GPa'"), std::string::npos) << msg("{box: [5 GPa, 4 GPa, 4 GPa]}");
 }
 

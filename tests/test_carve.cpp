@@ -15,6 +15,7 @@
 
 #include "core/error.hpp"
 #include "core/io/hdf5_file.hpp"
+#include "core/io/lammps_data.hpp"
 #include "scenarios/common/dem_input.hpp"
 #include "scenarios/common/dem_simulation.hpp"
 #include "tests/cli_helpers.hpp"
@@ -125,6 +126,26 @@ TEST(Carve, RemovalAndLabelsMatchBruteForce) {
   EXPECT_TRUE(all.particles.label_names.empty());
   // The group's new region form selects the same particles as the bottom wall label.
   for (std::size_t i = 0; i < p.size(); ++i) EXPECT_EQ(p.group[i] == 0, p.label[i] == 4) << i;
+}
+
+// A LAMMPS data file has no labels: its particles are unlabelled (0) unless `labels` gives them one.
+TEST(Carve, DataFileParticlesAreUnlabelledUnlessLabelled) {
+  const fs::path d = test::fresh_directory("debris_carve_data");
+  DemRunConfig all = uncarved();
+  all.particles.set_mass_from_density(1.0);  // the data file stores densities
+  write_lammps_data((d / "lattice.data").string(), all.box, all.particles);
+  std::string text = carved_input("unused");
+  const auto a = text.find("  lattice:"), b = text.find("box:");
+  text.replace(a, b - a, "  lammps_data: lattice.data\n");
+  const DemRunConfig labelled = read_dem_input_text(text, "data", d.string());
+  const DemRunConfig carved = read_dem_input_text(carved_input("unused"), "carved", "");
+  EXPECT_EQ(labels_by_id(labelled.particles), labels_by_id(carved.particles));
+  EXPECT_EQ(labelled.particles.label_names, kNames);
+  text.erase(text.find("labels:"), text.find("groups:") - text.find("labels:"));
+  const DemRunConfig plain = read_dem_input_text(text, "data", d.string());
+  EXPECT_EQ(plain.particles.size(), carved.particles.size());
+  for (int l : plain.particles.label) EXPECT_EQ(l, 0);
+  EXPECT_TRUE(plain.particles.label_names.empty());
 }
 
 TEST(Carve, RemoveIfKeepsEveryColumnOfTheRest) {

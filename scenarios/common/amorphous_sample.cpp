@@ -90,7 +90,7 @@ double AmorphousSpec::d_l_absolute() const {
 }
 Vec3 AmorphousSpec::box_length() const {
   const double d = d0_absolute();
-  if (box.x > 0.0 || box.y > 0.0 || box.z > 0.0) return box_absolute ? box : d * box;
+  if (box.x != 0.0 || box.y != 0.0 || box.z != 0.0) return box_absolute ? box : d * box;
   return {length * d, length * d, width * d};
 }
 double AmorphousSpec::skin() const { return 0.1 * d_s_absolute(); }

@@ -1,6 +1,8 @@
 #pragma once
 // Reads a debris_dem input file (YAML, quantities with units) into a ready-to-run system. Everything is
-// validated here, before any output is opened, so a bad input never touches earlier results.
+// validated here, before any output is opened, so a bad input never touches earlier results. The system is
+// built in this order: particles read (lattice or LAMMPS data) and wrapped into the box, `remove` regions
+// carve it, `labels` name the bodies (Particles::label), then `groups` choose their members.
 #include <optional>
 #include <string>
 #include <utility>
