@@ -48,8 +48,13 @@ Groups::View Groups::view() {
 }
 
 void Groups::kick_rigid(double dt) {
-  for (auto& g : list)
-    if (g.motion == GroupMotion::force && g.mass > 0.0) g.velocity += (dt / g.mass) * (g.reaction + g.external_force);
+  for (auto& g : list) {
+    if (g.motion != GroupMotion::force || !(g.mass > 0.0)) continue;
+    const Vec3 dv = (dt / g.mass) * (g.reaction + g.external_force);
+    if (!g.prescribed[0]) g.velocity.x += dv.x;
+    if (!g.prescribed[1]) g.velocity.y += dv.y;
+    if (!g.prescribed[2]) g.velocity.z += dv.z;
+  }
 }
 
 Groups::Partials::Partials(Partials&& o) noexcept { v_.swap(o.v_); }

@@ -5,9 +5,24 @@
 // loaded by a stress). Every step the group's reaction, the sum of the interaction forces on its members,
 // and its centre-of-mass displacement are measured.
 //
+// A force group may also prescribe its velocity on some axes and take the load on the others (`prescribed`):
+// the adhesive-wear junction's top wall slides at 10 m/s along x, stays put along z and is free along y
+// under a normal load. In the input:
+//
+//   - name: top
+//     region: {y: [12 nm, inf]}
+//     motion: force
+//     velocity: [10 m/s, free, 0]   # x and z prescribed, y free
+//     stress: [0, -100 MPa, 0]      # the load, on free axes only (times the x-z area of the box)
+//
+// Only the free axes are kicked by (reaction + external force) / M dt; a prescribed axis keeps
+// Group::velocity exactly, and its reaction is still measured (the friction force of the junction). Rigid
+// groups translate only: their members never spin.
+//
 // The reactions (and free groups' momenta) are summed in fixed blocks of kSumBlock particles, each block in
 // index order, the blocks then added in order: the same bits on any thread count, so a force group moves
 // the same way on 1 or 16 threads and a checkpoint continues bit for bit with another --threads.
+#include <array>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -25,6 +40,9 @@ struct Group {
   GroupMotion motion = GroupMotion::free;
   Vec3 velocity{};        // velocity mode: prescribed; force mode: current rigid velocity
   Vec3 external_force{};  // force mode: the applied load (e.g. stress times wall area)
+  // Force mode: axes whose velocity stays at `velocity` (no kick; their load must be 0). All false: the
+  // whole velocity follows the load.
+  std::array<bool, 3> prescribed{false, false, false};
 
   // Measured.
   long count = 0;
@@ -53,7 +71,8 @@ class Groups {
   };
   View view();
 
-  /// Force mode: v += (reaction + external) / M * dt, the semi-implicit Euler kick of a rigid body.
+  /// Force mode: v += (reaction + external) / M * dt on the axes that are not prescribed, the
+  /// semi-implicit Euler kick of a rigid body.
   void kick_rigid(double dt);
 
   /// Sums the current forces of each group's members into Group::reaction (fixed-order blocks).

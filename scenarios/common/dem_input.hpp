@@ -31,6 +31,15 @@ struct DemRunConfig {
   DemOutputSettings output;
 };
 
+/// Reads a group's motion from `node` into `group`: `motion` (free | frozen | velocity | force, default
+/// free), `velocity`, `force` or `stress` (with `area_normal`, the area taken from `box`) and
+/// `initial_velocity`. In a force group `velocity: [10 m/s, free, 0]` prescribes the axes given as
+/// quantities and leaves `free` ones to the load; a nonzero load on a prescribed axis is an InputError.
+/// Sets every motion field (motion, velocity, external_force, prescribed), resetting what the node does
+/// not give, and nothing else (name, membership and measured values are left alone), so it also serves a
+/// node that holds only motion keys (a stage changing a group's motion). On an error the group is unchanged.
+void read_group_motion(const InputNode& node, const Box& box, Group& group);
+
 /// Reads the whole file; InputError naming the key and the value for anything missing, malformed,
 /// out of range or unknown. Relative paths inside it (a LAMMPS data file) are relative to the file.
 DemRunConfig read_dem_input(const std::string& path);
