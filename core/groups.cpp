@@ -48,51 +48,97 @@ Groups::View Groups::view() {
 }
 
 void Groups::kick_rigid(double dt) {
-  for (auto& g : list)
-    if (g.motion == GroupMotion::force && g.mass > 0.0) g.velocity += (dt / g.mass) * (g.reaction + g.external_force);
-}
-
-void Groups::measure_reactions(const Particles& p) {
-  const int n = static_cast<int>(p.size());
-  const int* group = p.group.data();
-  const double *fx = p.fx.data(), *fy = p.fy.data(), *fz = p.fz.data();
-  for (std::size_t g = 0; g < list.size(); ++g) {
-    const int gi = static_cast<int>(g);
-    double sx = 0, sy = 0, sz = 0;
-    DEBRIS_KERNEL_SUM3(sx, sy, sz)
-    for (int i = 0; i < n; ++i) {
-      if (group[i] == gi) {
-        sx += fx[i];
-        sy += fy[i];
-        sz += fz[i];
-      }
-    }
-    list[g].reaction = {sx, sy, sz};
+  for (auto& g : list) {
+    if (g.motion != GroupMotion::force || !(g.mass > 0.0)) continue;
+    const Vec3 dv = (dt / g.mass) * (g.reaction + g.external_force);
+    if (!g.prescribed[0]) g.velocity.x += dv.x;
+    if (!g.prescribed[1]) g.velocity.y += dv.y;
+    if (!g.prescribed[2]) g.velocity.z += dv.z;
   }
 }
 
-void Groups::accumulate_displacements(const Particles& p, double dt) {
+Groups::Partials::Partials(Partials&& o) noexcept { v_.swap(o.v_); }
+
+Groups::Partials& Groups::Partials::operator=(Partials&& o) noexcept {
+  if (this != &o) {
+    release();
+    v_.swap(o.v_);
+  }
+  return *this;
+}
+
+double* Groups::Partials::reserve(std::size_t n) {
+  if (v_.size() < n) {
+    release();
+    v_.resize(n);
+    exec::device_enter(v_.data(), n * sizeof(double));
+  }
+  return v_.data();
+}
+
+void Groups::Partials::to_host(std::size_t n) { exec::update_host(v_.data(), n * sizeof(double)); }
+
+void Groups::Partials::release() {
+  if (!v_.empty()) exec::device_exit(v_.data(), v_.size() * sizeof(double));
+  std::vector<double>().swap(v_);
+}
+
+void Groups::sum_by_group(const Particles& p, const double* a, const double* b, const double* c, const double* w,
+                          std::vector<Vec3>& out) {
   const int n = static_cast<int>(p.size());
+  const int ng = static_cast<int>(list.size());
+  const int block = kSumBlock;
+  const int blocks = (n + block - 1) / block;
+  const std::size_t len = static_cast<std::size_t>(blocks) * static_cast<std::size_t>(ng) * 3;
+  double* part = partials_.reserve(len);
   const int* group = p.group.data();
-  const double *vx = p.vx.data(), *vy = p.vy.data(), *vz = p.vz.data(), *mass = p.mass.data();
+  // One pass for all groups: each block sums its members in index order into its own slice, whichever
+  // thread (or device team) runs it. Offload builds read p.group and the summed columns on the device:
+  // they must be resident there (Particles does not enter its columns yet; nothing in the DEM step does).
+  DEBRIS_KERNEL
+  for (int k = 0; k < blocks; ++k) {
+    double* s = part + static_cast<std::size_t>(k) * static_cast<std::size_t>(ng) * 3;
+    for (int j = 0; j < 3 * ng; ++j) s[j] = 0.0;
+    const int end = n - k * block < block ? n : (k + 1) * block;
+    for (int i = k * block; i < end; ++i) {
+      const int g = group[i];
+      if (g < 0) continue;
+      const double wi = w ? w[i] : 1.0;  // 1.0 * x is exact
+      s[3 * g] += wi * a[i];
+      s[3 * g + 1] += wi * b[i];
+      s[3 * g + 2] += wi * c[i];
+    }
+  }
+  partials_.to_host(len);
+  out.resize(static_cast<std::size_t>(ng));
+  for (int g = 0; g < ng; ++g) {
+    Vec3 t{};
+    for (int k = 0; k < blocks; ++k) {
+      const double* s = part + (static_cast<std::size_t>(k) * static_cast<std::size_t>(ng) + static_cast<std::size_t>(g)) * 3;
+      t += Vec3{s[0], s[1], s[2]};
+    }
+    out[static_cast<std::size_t>(g)] = t;
+  }
+}
+
+void Groups::measure_reactions(const Particles& p) {
+  if (list.empty()) return;
+  sum_by_group(p, p.fx.data(), p.fy.data(), p.fz.data(), nullptr, sums_);
+  for (std::size_t g = 0; g < list.size(); ++g) list[g].reaction = sums_[g];
+}
+
+void Groups::accumulate_displacements(const Particles& p, double dt) {
+  bool any_free = false;
+  for (Group& gr : list) {
+    if (gr.motion == GroupMotion::frozen || gr.mass <= 0.0) continue;
+    if (gr.motion == GroupMotion::free) any_free = true;
+    else gr.displacement += dt * gr.velocity;
+  }
+  if (!any_free) return;  // rigid groups only: no pass over the particles
+  sum_by_group(p, p.vx.data(), p.vy.data(), p.vz.data(), p.mass.data(), sums_);
   for (std::size_t g = 0; g < list.size(); ++g) {
     Group& gr = list[g];
-    if (gr.motion == GroupMotion::frozen || gr.mass <= 0.0) continue;
-    if (gr.motion != GroupMotion::free) {
-      gr.displacement += dt * gr.velocity;
-      continue;
-    }
-    const int gi = static_cast<int>(g);
-    double px = 0, py = 0, pz = 0;
-    DEBRIS_KERNEL_SUM3(px, py, pz)
-    for (int i = 0; i < n; ++i) {
-      if (group[i] == gi) {
-        px += mass[i] * vx[i];
-        py += mass[i] * vy[i];
-        pz += mass[i] * vz[i];
-      }
-    }
-    gr.displacement += (dt / gr.mass) * Vec3{px, py, pz};
+    if (gr.motion == GroupMotion::free && gr.mass > 0.0) gr.displacement += (dt / gr.mass) * sums_[g];
   }
 }
 

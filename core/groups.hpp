@@ -4,6 +4,26 @@
 // frozen, moved rigidly at a prescribed velocity, or moved rigidly under a prescribed external force (a wall
 // loaded by a stress). Every step the group's reaction, the sum of the interaction forces on its members,
 // and its centre-of-mass displacement are measured.
+//
+// A force group may also prescribe its velocity on some axes and take the load on the others (`prescribed`):
+// the adhesive-wear junction's top wall slides at 10 m/s along x, stays put along z and is free along y
+// under a normal load. In the input:
+//
+//   - name: top
+//     region: {y: [12 nm, inf]}
+//     motion: force
+//     velocity: [10 m/s, free, 0]   # x and z prescribed, y free
+//     stress: [0, -100 MPa, 0]      # the load, on free axes only (times the x-z area of the box)
+//
+// Only the free axes are kicked by (reaction + external force) / M dt; a prescribed axis keeps
+// Group::velocity exactly, and its reaction is still measured (the friction force of the junction). Rigid
+// groups translate only: their members never spin.
+//
+// The reactions (and free groups' momenta) are summed in fixed blocks of kSumBlock particles, each block in
+// index order, the blocks then added in order: the same bits on any thread count, so a force group moves
+// the same way on 1 or 16 threads and a checkpoint continues bit for bit with another --threads.
+#include <array>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -20,6 +40,9 @@ struct Group {
   GroupMotion motion = GroupMotion::free;
   Vec3 velocity{};        // velocity mode: prescribed; force mode: current rigid velocity
   Vec3 external_force{};  // force mode: the applied load (e.g. stress times wall area)
+  // Force mode: axes whose velocity stays at `velocity` (no kick; their load must be 0). All false: the
+  // whole velocity follows the load.
+  std::array<bool, 3> prescribed{false, false, false};
 
   // Measured.
   long count = 0;
@@ -48,18 +71,49 @@ class Groups {
   };
   View view();
 
-  /// Force mode: v += (reaction + external) / M * dt, the semi-implicit Euler kick of a rigid body.
+  /// Force mode: v += (reaction + external) / M * dt on the axes that are not prescribed, the
+  /// semi-implicit Euler kick of a rigid body.
   void kick_rigid(double dt);
 
-  /// Sums the current forces of each group's members into Group::reaction.
+  /// Sums the current forces of each group's members into Group::reaction (fixed-order blocks).
   void measure_reactions(const Particles& p);
 
   /// Adds each group's centre-of-mass velocity times dt to its displacement (call after the drift).
   void accumulate_displacements(const Particles& p, double dt);
 
+  /// Particles per summation block: a constant, so that the sums do not depend on the thread count.
+  static constexpr int kSumBlock = 2048;
+
  private:
+  // Per block and group, the partial sums of one per-particle vector, [block][group][xyz]. Derived data:
+  // a copy starts empty, a move takes the buffer and its device entry along (offload builds: the buffer is
+  // entered on the device when sized and released when freed).
+  class Partials {
+   public:
+    Partials() = default;
+    Partials(const Partials&) {}
+    Partials& operator=(const Partials&) { return *this; }
+    Partials(Partials&& o) noexcept;
+    Partials& operator=(Partials&& o) noexcept;
+    ~Partials() { release(); }
+    /// At least n doubles, entered on the device; allocates only when n grows.
+    double* reserve(std::size_t n);
+    /// Device -> host of the first n doubles after a kernel filled them.
+    void to_host(std::size_t n);
+
+   private:
+    void release();
+    std::vector<double> v_;
+  };
+
+  /// Sums a[i] (b[i], c[i]) of each group's members into out[g]; fixed order, one pass for all groups.
+  void sum_by_group(const Particles& p, const double* a, const double* b, const double* c, const double* w,
+                    std::vector<Vec3>& out);
+
   std::vector<int> mode_;
   std::vector<double> vx_, vy_, vz_;
+  Partials partials_;
+  std::vector<Vec3> sums_;
 };
 
 }  // namespace debris

@@ -167,6 +167,30 @@ TEST_F(DemCli, NotANumber) {
                   {"material.restitution", "high"});
 }
 
+// A per-axis force group with a load on a prescribed axis: exit 2 naming the key and the value, and no
+// output directory made (the earlier results elsewhere survive too).
+TEST_F(DemCli, LoadOnPrescribedAxis) {
+  const fs::path never = dir / "never_written";
+  std::string yaml = replace(small_input(never.string()), "run:\n", R"(groups:
+  - name: top
+    region: {y: [300, inf]}
+    motion: force
+    velocity: [0.001, free, 0]
+    force: [0.5, -1, 0]
+run:
+)");
+  const Result r = run_dem("-i " + write(dir, "bad.yaml", yaml).string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  for (const char* m : {"groups[0].force", "[0.5, -1, 0]", "x velocity is prescribed"})
+    EXPECT_NE(r.output.find(m), std::string::npos) << "no '" << m << "' in:\n" << r.output;
+  EXPECT_FALSE(fs::exists(never)) << "a bad input made its output directory";
+  EXPECT_EQ(slurp(out / "thermo.csv"), thermo_before);
+  // The same group with the x load removed runs.
+  const Result ok = run_dem("-i " + write(dir, "good_axes.yaml", replace(yaml, "force: [0.5, -1, 0]", "force: [0, -1, 0]")).string());
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_TRUE(fs::exists(never / "thermo.csv"));
+}
+
 TEST(DemCliHelp, HelpListsOptions) {
   const Result r = run_dem("--help");
   EXPECT_EQ(r.exit_code, 0);

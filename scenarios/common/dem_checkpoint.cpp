@@ -16,7 +16,8 @@ namespace debris {
 
 namespace {
 
-constexpr std::int64_t kFormatVersion = 1;
+// 2: groups/prescribed (per-axis velocity of force groups).
+constexpr std::int64_t kFormatVersion = 2;
 
 template <class T>
 std::vector<T> as_vector(const h5::Array<T>& a) {
@@ -86,13 +87,14 @@ void DemSimulation::write_checkpoint(const std::string& path, const std::string&
     {
       h5::Group groups = f.create_group("groups");
       std::vector<std::string> names;
-      std::vector<std::int32_t> motion;
+      std::vector<std::int32_t> motion, prescribed;
       std::vector<std::int64_t> count;
       std::vector<double> mass;
       std::vector<Vec3> velocity, force, reaction, displacement;
       for (const Group& g : groups_.list) {
         names.push_back(g.name);
         motion.push_back(static_cast<std::int32_t>(g.motion));
+        for (bool b : g.prescribed) prescribed.push_back(b ? 1 : 0);
         count.push_back(g.count);
         mass.push_back(g.mass);
         velocity.push_back(g.velocity);
@@ -104,6 +106,7 @@ void DemSimulation::write_checkpoint(const std::string& path, const std::string&
       if (!names.empty()) {
         groups.write_strings("name", names);
         groups.write("motion", motion);
+        groups.write("prescribed", prescribed, names.size(), 3);
         groups.write("count", count);
         groups.write("mass", mass);
         write_vec3s(groups, "velocity", velocity);
@@ -196,12 +199,14 @@ DemSimulation DemSimulation::from_checkpoint(const std::string& path, std::strin
   if (ng > 0) {
     const auto names = groups.read_strings("name");
     const auto motion = groups.read<std::int32_t>("motion").values;
+    const auto prescribed = groups.read<std::int32_t>("prescribed").values;
     const auto count = groups.read<std::int64_t>("count").values;
     const auto mass = groups.read<double>("mass").values;
     const auto velocity = read_vec3s(groups, "velocity"), force = read_vec3s(groups, "external_force");
     const auto reaction = read_vec3s(groups, "reaction"), displacement = read_vec3s(groups, "displacement");
     for (std::size_t g = 0; g < names.size(); ++g) {
       Group gr{names[g], static_cast<GroupMotion>(motion[g]), velocity[g], force[g]};
+      for (std::size_t a = 0; a < 3; ++a) gr.prescribed[a] = prescribed[3 * g + a] != 0;
       gr.count = count[g];
       gr.mass = mass[g];
       gr.reaction = reaction[g];

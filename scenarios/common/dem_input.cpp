@@ -132,40 +132,16 @@ void read_labels(const InputNode& root, DemRunConfig& cfg) {
                         "the label holds no particle (its region selects none, or later labels take them all)");
 }
 
-}  // namespace
+// "groups[1].stress", or "stress" for a key of the root (a stage's motion node read on its own).
+std::string key_path(const InputNode& n, const std::string& key) { return n.path().empty() ? key : n.path() + "." + key; }
 
-void read_group_motion(const InputNode& g, const Box& box, Group& group) {
-  group.motion = GroupMotion::free;
-  group.velocity = Vec3{};
-  group.external_force = Vec3{};
-  const std::string motion = g.choice("motion", {"free", "frozen", "velocity", "force"}, "free");
-  group.motion = motion == "free"     ? GroupMotion::free
-                 : motion == "frozen" ? GroupMotion::frozen
-                 : motion == "velocity" ? GroupMotion::velocity
-                                        : GroupMotion::force;
-  if (group.motion == GroupMotion::velocity) group.velocity = g.vec3("velocity", units::velocity);
-  if (group.motion == GroupMotion::force) {
-    const bool has_force = g.has("force"), has_stress = g.has("stress");
-    if (has_force == has_stress)
-      throw input_error(g.path() + ".force", has_force ? "both force and stress" : "neither",
-                        "a force group needs exactly one of 'force' (a vector) or 'stress' (a traction vector)");
-    if (has_force) {
-      group.external_force = g.vec3("force", units::force);
-    } else {
-      const Vec3 t = g.vec3("stress", units::pressure);
-      const double comps[3] = {std::abs(t.x), std::abs(t.y), std::abs(t.z)};
-      const int largest = comps[0] >= comps[1] && comps[0] >= comps[2] ? 0 : (comps[1] >= comps[2] ? 1 : 2);
-      const int normal = axis_of(g, "area_normal", std::string(1, "xyz"[largest]));
-      double area = 1.0;
-      for (int a = 0; a < 3; ++a)
-        if (a != normal) area *= box.length(a);
-      group.external_force = area * t;
-    }
-    group.velocity = g.vec3("initial_velocity", units::velocity, Vec3{});
-  }
+// The text of a 3-vector as the input gave it, "[10 m/s, free, 0]", for messages.
+std::string vector_text(const InputNode& n, const std::string& key) {
+  std::string t = "[";
+  const std::vector<InputNode> e = n.list(key);
+  for (std::size_t a = 0; a < e.size(); ++a) t += (a ? ", " : "") + (e[a].is_scalar() ? e[a].text() : std::string("..."));
+  return t + "]";
 }
-
-namespace {
 
 void read_groups(const InputNode& root, DemRunConfig& cfg) {
   if (!root.has("groups")) return;
@@ -245,6 +221,97 @@ DemStageChanges read_stage_changes(const InputNode& st, const DemRunConfig& cfg)
 }
 
 }  // namespace
+
+namespace {
+
+// Fills the motion fields of `group`, which start at their defaults.
+void read_motion_fields(const InputNode& g, const Box& box, Group& group) {
+  const std::string motion = g.choice("motion", {"free", "frozen", "velocity", "force"}, "free");
+  group.motion = motion == "free"       ? GroupMotion::free
+                 : motion == "frozen"   ? GroupMotion::frozen
+                 : motion == "velocity" ? GroupMotion::velocity
+                                        : GroupMotion::force;
+  if (group.motion == GroupMotion::velocity) {
+    if (g.has("velocity") && g.child("velocity").is_sequence())
+      for (const InputNode& e : g.list("velocity"))
+        if (e.is_scalar() && e.text() == "free")
+          throw input_error(key_path(g, "velocity"), vector_text(g, "velocity"),
+                            "a velocity group prescribes every axis; for a free axis use 'motion: force' with a load");
+    group.velocity = g.vec3("velocity", units::velocity);
+    return;
+  }
+  if (group.motion != GroupMotion::force) return;
+
+  // Optional per-axis velocity: a quantity prescribes the axis, `free` leaves it to the load.
+  Vec3 prescribed_velocity{};
+  if (g.has("velocity")) {
+    const std::vector<InputNode> v = g.list("velocity");
+    if (v.size() != 3)
+      throw input_error(key_path(g, "velocity"), std::to_string(v.size()) + " values",
+                        "give [vx, vy, vz], each a velocity or 'free' (left to the load)");
+    double c[3] = {0, 0, 0};
+    for (std::size_t a = 0; a < 3; ++a) {
+      const bool is_free = v[a].is_scalar() && v[a].text() == "free";
+      group.prescribed[a] = !is_free;  // a non-scalar entry falls to quantity(), whose error names it
+      if (!is_free) c[a] = v[a].quantity(units::velocity);
+    }
+    prescribed_velocity = {c[0], c[1], c[2]};
+  }
+
+  const bool has_force = g.has("force"), has_stress = g.has("stress");
+  if (has_force == has_stress)
+    throw input_error(key_path(g, "force"), has_force ? "both force and stress" : "neither",
+                      "a force group needs exactly one of 'force' (a vector) or 'stress' (a traction vector)");
+  const std::string load_key = has_force ? "force" : "stress";
+  const Vec3 load = has_force ? g.vec3("force", units::force) : g.vec3("stress", units::pressure);
+  if (has_force) {
+    group.external_force = load;
+  } else {
+    const double comps[3] = {std::abs(load.x), std::abs(load.y), std::abs(load.z)};
+    const int largest = comps[0] >= comps[1] && comps[0] >= comps[2] ? 0 : (comps[1] >= comps[2] ? 1 : 2);
+    const int normal = axis_of(g, "area_normal", std::string(1, "xyz"[largest]));
+    double area = 1.0;
+    for (int a = 0; a < 3; ++a)
+      if (a != normal) area *= box.length(a);
+    group.external_force = area * load;
+  }
+  // A prescribed axis takes no load: the wall would not move under it, and its kick is dropped.
+  const double load_c[3] = {load.x, load.y, load.z};
+  for (int a = 0; a < 3; ++a)
+    if (group.prescribed[static_cast<std::size_t>(a)] && load_c[a] != 0.0)
+      throw input_error(key_path(g, load_key), vector_text(g, load_key),
+                        std::string("the ") + "xyz"[a] + " velocity is prescribed (" + key_path(g, "velocity") + " = " +
+                            vector_text(g, "velocity") + "), so that axis takes no load; give 0 there or make it 'free'");
+
+  // initial_velocity starts the free axes; on a prescribed axis it can only repeat the prescribed value.
+  const Vec3 initial = g.vec3("initial_velocity", units::velocity, Vec3{});
+  const double init_c[3] = {initial.x, initial.y, initial.z};
+  const double pres_c[3] = {prescribed_velocity.x, prescribed_velocity.y, prescribed_velocity.z};
+  double v[3];
+  for (int a = 0; a < 3; ++a) {
+    const bool fixed = group.prescribed[static_cast<std::size_t>(a)];
+    if (fixed && init_c[a] != 0.0 && init_c[a] != pres_c[a])
+      throw input_error(key_path(g, "initial_velocity"), vector_text(g, "initial_velocity"),
+                        std::string("the ") + "xyz"[a] + " velocity is prescribed by " +
+                            key_path(g, "velocity") + "; give initial values for the free axes only (0 on prescribed ones)");
+    v[a] = fixed ? pres_c[a] : init_c[a];
+  }
+  group.velocity = {v[0], v[1], v[2]};
+}
+
+}  // namespace
+
+void read_group_motion(const InputNode& node, const Box& box, Group& group) {
+  // Every motion field is reset, so a stage that changes a group's motion starts from a clean slate; the
+  // group is changed only once the whole node has been read (a bad node leaves it as it was).
+  Group next = group;
+  next.motion = GroupMotion::free;
+  next.velocity = Vec3{};
+  next.external_force = Vec3{};
+  next.prescribed = {false, false, false};
+  read_motion_fields(node, box, next);
+  group = std::move(next);
+}
 
 DemRunConfig read_dem_input(const std::string& path) {
   const InputNode root = InputNode::load_file(path);

@@ -42,7 +42,7 @@ struct DemStageChanges {
   std::optional<double> global_damping;
   std::optional<bool> adhesive, tangential;
   /// Group index and its new motion (name and members unchanged). `keep_velocity`: a force group whose
-  /// stage gives no initial_velocity keeps moving as it was on its load-driven axes.
+  /// stage gives no initial_velocity keeps moving as it was on its load-driven (not prescribed) axes.
   struct GroupChange {
     int group = -1;
     Group motion;
@@ -69,8 +69,13 @@ struct DemRunConfig {
   DemOutputSettings output;
 };
 
-/// The motion of a group from `node` (motion, velocity, force / stress / area_normal, initial_velocity)
-/// into `group`, every motion field set (what the node leaves out is reset). Membership is not read here.
+/// Reads a group's motion from `node` into `group`: `motion` (free | frozen | velocity | force, default
+/// free), `velocity`, `force` or `stress` (with `area_normal`, the area taken from `box`) and
+/// `initial_velocity`. In a force group `velocity: [10 m/s, free, 0]` prescribes the axes given as
+/// quantities and leaves `free` ones to the load; a nonzero load on a prescribed axis is an InputError.
+/// Sets every motion field (motion, velocity, external_force, prescribed), resetting what the node does
+/// not give, and nothing else (name, membership and measured values are left alone), so it also serves a
+/// node that holds only motion keys (a stage changing a group's motion). On an error the group is unchanged.
 void read_group_motion(const InputNode& node, const Box& box, Group& group);
 
 /// Reads the whole file; InputError naming the key and the value for anything missing, malformed,

@@ -157,7 +157,12 @@ class DemRunModel final : public RunModel {
       g.motion = gc.motion.motion;
       g.velocity = gc.motion.velocity;
       g.external_force = gc.motion.external_force;
-      if (gc.keep_velocity) g.velocity = moving;
+      g.prescribed = gc.motion.prescribed;
+      if (gc.keep_velocity) {  // the load-driven axes go on as they were moving
+        if (!g.prescribed[0]) g.velocity.x = moving.x;
+        if (!g.prescribed[1]) g.velocity.y = moving.y;
+        if (!g.prescribed[2]) g.velocity.z = moving.z;
+      }
       os << "group " << g.name << " " << motion_name(g.motion) << "; ";
     }
     // The changes act on this step's forces too (damping, reactions), as they would have at set-up.
