@@ -115,6 +115,14 @@ WearAnalysis::WearAnalysis(const WearSettings& settings, const DemSimulation& si
     junction_volume_ += 4.0 / 3.0 * kPi * p.radius[i] * p.radius[i] * p.radius[i];
   }
   if (junction_ids_.empty()) throw input_error("wear.junction_label", s_.junction_label, "labels no particle");
+  // A wall reaching into the junction (thicker than its slab) would hold the junction rigidly.
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.label[i] != junction || (p.group[i] != bottom_ && p.group[i] != top_)) continue;
+    const bool top_wall = p.group[i] == top_;
+    throw input_error(top_wall ? "wear.top_wall" : "wear.bottom_wall", top_wall ? s_.top_wall : s_.bottom_wall,
+                      "the wall holds particle id " + std::to_string(p.id[i]) + " of the junction '" +
+                          s_.junction_label + "': it is thicker than its slab (the wall must end before the junction)");
+  }
 }
 
 const WearSample& WearAnalysis::sample(const DemSimulation& sim) {

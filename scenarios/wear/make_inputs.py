@@ -1,0 +1,147 @@
+#!/usr/bin/env python3
+"""Writes the six sheared-junction inputs of paper A section 4 (D = 10 and 20 nm, d0 = 1.5, 3 and 6 nm)
+from the relaxed samples in data/ (made by sample_d0_*nm.yaml with debris_amorphous). The geometry is
+placed in each sample's own relaxed box (the box grows by ~2% while relaxing), so the numbers differ a
+little between samples; this script is how they were derived.
+
+    python3 scenarios/wear/make_inputs.py      # rewrites scenarios/wear/junction_D*_d0_*nm.yaml
+"""
+import pathlib
+
+HERE = pathlib.Path(__file__).resolve().parent
+
+# Per d0: the sample, the time step of Table 6, and the analysis sampling interval (0.05 ns) in steps.
+CASES = {
+    "1.5": dict(data="data/silica_d0_1.5nm.data", dt_fs=20),
+    "3": dict(data="data/silica_d0_3nm.data", dt_fs=40),
+    "6": dict(data="data/silica_d0_6nm.data", dt_fs=80),
+    # Two more samples at d0 = 6 nm (seeds 2 and 3 of sample_d0_6nm_seed*.yaml), for the seed study and ctest.
+    "6_seed2": dict(data="data/silica_d0_6nm_seed2.data", dt_fs=80, d0=6),
+    "6_seed3": dict(data="data/silica_d0_6nm_seed3.data", dt_fs=80, d0=6),
+}
+SETTLE_NS = 0.2      # settling under the load before sliding (the paper is silent): see README
+SLIDE_NS = 10.0      # 10 ns of sliding (Table 6)
+SAMPLE_NS = 0.05     # wear analysis and thermo interval
+FRAME_NS = 0.5       # dump / trajectory frames
+
+
+def box_of(data):
+    lo, hi = [0.0] * 3, [0.0] * 3
+    for line in (HERE / data).read_text().splitlines()[:12]:
+        parts = line.split()
+        for axis, name in enumerate("xyz"):
+            if len(parts) == 4 and parts[2] == name + "lo":
+                lo[axis], hi[axis] = float(parts[0]), float(parts[1])
+    return lo, hi
+
+
+def nm(v):
+    return f"{v * 1e9:.4f} nm"
+
+
+def write(d0, D):
+    case = CASES[d0]
+    lo, hi = box_of(case["data"])
+    d0_m = float(case.get("d0", d0)) * 1e-9
+    D_m = D * 1e-9
+    H = D_m / 2
+    xc, yc, zc = [(a + b) / 2 for a, b in zip(lo, hi)]
+    gap = (yc - H / 2, yc + H / 2)
+    wall = 1.5 * d0_m
+    dt = case["dt_fs"] * 1e-15
+    steps = lambda ns: int(round(ns * 1e-9 / dt))
+    cylinder = (f"{{cylinder: {{axis: y, centre: [{nm(xc)}, 0, {nm(zc)}], radius: {nm(D_m / 2)}, "
+                f"extent: [{nm(gap[0])}, {nm(gap[1])}]}}}}")
+    d0_label, _, seed = d0.partition("_")
+    name = f"junction_D{D}_d0_{d0_label}nm" + (f"_{seed}" if seed else "")
+    text = f"""# Sheared junction of paper A section 4 (Figs 9, 10, A.10): D = {D} nm, d0 = {d0} nm. Two amorphous silica
+# bodies joined by a cylinder of diameter D and height D/2 (axis y), rigid walls {1.5 * d0_m * 1e9:g} nm (1.5 d0)
+# thick at the outer faces; the bottom wall is fixed, the top wall slides at 10 m/s along x under a normal
+# load of 100 MPa (y free), z fixed. Written by make_inputs.py from the relaxed sample in {case['data']}
+# (box {nm(hi[0] - lo[0])} x {nm(hi[1] - lo[1])} x {nm(hi[2] - lo[2])}). Run:
+#   build/bin/debris_dem -i scenarios/wear/{name}.yaml
+# The wear analysis decides ductile or rolling wear particle (wear.csv, the closing lines); see README.
+material:                      # Table 5, s = 0.5
+  youngs_modulus: 73 GPa
+  poisson_ratio: 0.17
+  tensile_strength: 16 GPa
+  shear_strength: 9 GPa
+  surface_energy: 1.5 N/m
+  restitution: 0.9
+  density: 2200 kg/m^3
+  scaling: 0.5
+
+particles:
+  lammps_data: {case['data']}
+  masses_from_file: true       # the relaxed sample's masses (total mass / box volume = rho)
+
+box:
+  periodic: [true, false, true]  # periodic along the sliding axis x and along z; y is the normal
+
+remove:                        # the gap between the bodies, except the junction
+  difference:
+    - {{block: {{y: [{nm(gap[0])}, {nm(gap[1])}]}}}}
+    - {cylinder}
+
+labels:                        # the body each particle starts in (later entries override earlier ones)
+  - {{name: bottom, region: {{block: {{y: [-inf, {nm(yc)}]}}}}}}
+  - {{name: top, region: {{block: {{y: [{nm(yc)}, inf]}}}}}}
+  - {{name: junction, region: {cylinder}}}
+  - {{name: bottom_wall, region: {{block: {{y: [-inf, {nm(lo[1] + wall)}]}}}}}}
+  - {{name: top_wall, region: {{block: {{y: [{nm(hi[1] - wall)}, inf]}}}}}}
+
+groups:
+  - name: bottom_wall
+    region: {{block: {{y: [-inf, {nm(lo[1] + wall)}]}}}}
+    motion: frozen
+  - name: top_wall
+    region: {{block: {{y: [{nm(hi[1] - wall)}, inf]}}}}
+    motion: force              # rigid: y moves under the load, x and z prescribed
+    velocity: [0, free, 0]     # at rest while settling
+    stress: [0, -100 MPa, 0]   # times the x-z area of the box
+
+stages:
+  - name: settle               # the carved faces relax under the load, damped
+    duration: {SETTLE_NS} ns
+    global_damping: 0.1
+  - name: slide
+    duration: {SLIDE_NS} ns
+    global_damping: 0
+    groups:
+      - {{name: top_wall, motion: force, velocity: [10 m/s, free, 0], stress: [0, -100 MPa, 0]}}
+
+run:
+  time_step: {case['dt_fs']} fs              # Table 6
+  overlap_limit: auto          # relaxed samples hold overlaps of 0.6-1.3 r_min
+  skin: 0.5 nm                 # carving leaves vibration: a wide skin keeps rebuilds rare (README)
+  threads: 2
+
+wear:
+  every: {steps(SAMPLE_NS)}                   # steps: {SAMPLE_NS} ns
+  bottom_wall: bottom_wall
+  top_wall: top_wall
+  junction_label: junction
+  sliding_axis: x
+  normal_axis: y
+  persistence: 1.5 ns          # a pair is a bond after 1.5 ns in range (a rolling contact lasts ~1 ns)
+  window: 2 ns                 # kinematics averaged over the last 2 ns
+  min_volume_fraction: 0.25    # a wear particle holds at least a quarter of the junction's volume
+  centre_speed: [0.25, 0.75]   # of the wall speed (rolling without slip: 0.5)
+  rolling_number: [0.5, 1.5]   # 2 R omega / v (rolling without slip: 1)
+  max_residual: 0.3            # rigid-fit rms residual over the wall's displacement per sample
+
+output:
+  directory: out/wear/{name}
+  thermo_every: {steps(SAMPLE_NS)}
+  dump_every: {steps(FRAME_NS)}
+  checkpoint_every: {steps(1.0)}        # 1 ns
+  progress_seconds: 30
+"""
+    (HERE / f"{name}.yaml").write_text(text)
+    return name
+
+
+if __name__ == "__main__":
+    for d0 in CASES:
+        for D in (10, 20):
+            print(write(d0, D))
