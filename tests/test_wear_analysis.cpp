@@ -136,9 +136,9 @@ TEST(WearAnalysis, BallRollingWithoutSlipIsARollingWearParticle) {
   EXPECT_NEAR(last.mean_centre_speed, 0.5, 0.01);
   EXPECT_NEAR(last.mean_rolling_number, 1.0, 0.05);
   EXPECT_LT(last.mean_residual, 0.05);
-  // Bonds count only after the persistence time: until then every particle is its own cluster, and the
-  // third body appears at the first sample past it (step 300) and stays.
-  EXPECT_EQ(wear.samples()[2].third_particles, 1);
+  // Bonds count only after the persistence time: until then every particle is its own cluster (and a single
+  // particle is no third body); the ball appears at the first sample past it (step 300) and stays.
+  EXPECT_EQ(wear.samples()[2].third_particles, 0);
   EXPECT_EQ(wear.detection_index(), 3);
 }
 

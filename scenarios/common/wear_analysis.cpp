@@ -187,7 +187,8 @@ const WearSample& WearAnalysis::sample(const DemSimulation& sim) {
     if (holds_top[r]) out.junction_in_top += junction_part[r] / junction_volume_;
     if (!holds_bottom[r] && !holds_top[r]) {
       out.junction_in_third += junction_part[r] / junction_volume_;
-      if (third == n || volume[r] > volume[third]) third = r;
+      // The candidate: the free cluster holding most of the junction (a loose particle of a slab is not one).
+      if (members[r] > 1 && junction_part[r] > 0 && (third == n || junction_part[r] > junction_part[third])) third = r;
     }
   }
 
@@ -202,7 +203,7 @@ const WearSample& WearAnalysis::sample(const DemSimulation& sim) {
   const double interval = out.time - previous_time_;
   if (third < n) {
     out.third_particles = members[third];
-    out.third_volume = volume[third] / junction_volume_;
+    out.third_volume = junction_part[third] / junction_volume_;
     out.third_from_junction = junction_part[third] / volume[third];
     std::vector<std::size_t> body;
     for (std::size_t i = 0; i < n; ++i)

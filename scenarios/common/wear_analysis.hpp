@@ -10,7 +10,11 @@
 // w / (v/2) for a wall speed v (about 1.2 ns for w = 6 nm at 10 m/s). So a pair is *bonded* once it has
 // been within range at every sample for `persistence` (longer than that), and clusters are the connected
 // components of the bonded pairs. The walls' clusters hold the walls' members; a *third body* is a cluster
-// holding no wall member, and the candidate wear particle is the largest by volume.
+// holding no wall member, and the candidate wear particle is the one holding most of the junction's volume.
+// How long is long enough: the longest-lived contact that is not a bond is one between two of the largest
+// particles (diameter d_l) rolling or sliding over each other under load, which stays in range over a
+// relative travel of 2 sqrt(2 d_l delta_f + delta_f^2) (6.2 nm for d_l = 7.5 nm, delta_f = 0.62 nm), at v/2
+// for a body rolling on a surface: 1.2 ns at 10 m/s. Twice that is safe.
 //
 // Kinematics without thermal noise. Instantaneous velocities are dominated by vibration (about 25 m/s for
 // 3 nm silica particles, more than the wall speed), but a displacement over the sampling interval (many
@@ -72,7 +76,7 @@ struct WearSample {
   double junction_in_bottom = 0, junction_in_top = 0, junction_in_third = 0;  // shares of its volume
   // The largest third body (zeros when there is none).
   long third_particles = 0;
-  double third_volume = 0;       // over the junction's volume
+  double third_volume = 0;       // the junction's volume it holds, over the junction's volume
   double third_from_junction = 0;  // share of its volume that started in the junction
   double centre_speed = 0;       // of its centre along the sliding axis, over the wall speed
   double spin = 0;               // rad/s about n x s

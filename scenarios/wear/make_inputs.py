@@ -123,7 +123,7 @@ wear:
   junction_label: junction
   sliding_axis: x
   normal_axis: y
-  persistence: 1.5 ns          # a pair is a bond after 1.5 ns in range (a rolling contact lasts ~1 ns)
+  persistence: 2.5 ns          # a pair is a bond after 2.5 ns in range (no rolling contact lasts 1.3 ns)
   window: 2 ns                 # kinematics averaged over the last 2 ns
   min_volume_fraction: 0.25    # a wear particle holds at least a quarter of the junction's volume
   centre_speed: [0.25, 0.75]   # of the wall speed (rolling without slip: 0.5)
