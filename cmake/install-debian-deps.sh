@@ -19,6 +19,7 @@ packages=(
   python3                # bench/perf_check.py
   gmsh                   # PeriDEM grain and wall meshes: core/shape_mesh runs the gmsh executable (tests too)
   gnuplot-nox            # the PNG plots of the patch-test and amorphous scenarios (skipped, with a note, without it)
+  python3-matplotlib     # the sheared-junction pictures (scenarios/wear/plot.py)
 )
 [ "$with_tests" -eq 0 ] || packages+=(python3-paraview)
 missing=()

@@ -131,15 +131,20 @@ TEST(WearAnalysis, BallRollingWithoutSlipIsARollingWearParticle) {
   const WearSample& last = wear.samples().back();
   EXPECT_EQ(wear.verdict(), WearVerdict::rolling) << wear.report();
   EXPECT_FALSE(last.walls_joined);
-  EXPECT_NEAR(last.third_volume, 1.0, 1e-12);  // the ball is the whole junction
+  // The ball is the whole junction; its bottom and top rows move with f < 0.1 or f > 0.9 and are left out.
+  EXPECT_GT(last.third_volume, 0.9);
   EXPECT_EQ(last.third_from_junction, 1.0);
-  EXPECT_NEAR(last.mean_centre_speed, 0.5, 0.01);
-  EXPECT_NEAR(last.mean_rolling_number, 1.0, 0.05);
-  EXPECT_LT(last.mean_residual, 0.05);
-  // Bonds count only after the persistence time: until then every particle is its own cluster (and a single
-  // particle is no third body); the ball appears at the first sample past it (step 300) and stays.
-  EXPECT_EQ(wear.samples()[2].third_particles, 0);
-  EXPECT_EQ(wear.detection_index(), 3);
+  EXPECT_NEAR(last.centre_speed, 0.5, 0.01);
+  // 2R from the particles with 0.1 < f < 0.9, whose extent is 0.8 of the height to within a row of this
+  // 100-particle lattice ball (17% here; less for the junctions' hundreds of amorphous particles).
+  EXPECT_NEAR(last.rolling_number, 1.0, 0.2);
+  EXPECT_LT(last.residual, 0.02);
+  // Kinematics need a whole window (600 steps) of sliding behind a sample; the ball is a rolling third body
+  // from the first such sample on.
+  EXPECT_FALSE(wear.samples()[5].kinematics);
+  EXPECT_EQ(wear.detection_index(), 6);
+  // Its bonds: every pair of the ball stayed in range, so it is one bonded cluster bonded to neither wall.
+  EXPECT_NEAR(last.junction_in_third, 1.0, 1e-12);
 }
 
 TEST(WearAnalysis, BallSlidingWithoutSpinIsDetachedButDoesNotRoll) {
@@ -149,8 +154,9 @@ TEST(WearAnalysis, BallSlidingWithoutSpinIsDetachedButDoesNotRoll) {
   const WearAnalysis wear = run(sim, 1500);
   const WearSample& last = wear.samples().back();
   EXPECT_EQ(wear.verdict(), WearVerdict::detached) << wear.report();
-  EXPECT_NEAR(last.mean_centre_speed, 0.5, 0.01);
-  EXPECT_NEAR(last.mean_rolling_number, 0.0, 0.02);
+  EXPECT_NEAR(last.centre_speed, 0.5, 0.01);
+  EXPECT_NEAR(last.rolling_number, 0.0, 0.02);
+  EXPECT_LT(last.residual, 0.02);
 }
 
 TEST(WearAnalysis, OneBondedBlockHasNoThirdBody) {
@@ -160,7 +166,7 @@ TEST(WearAnalysis, OneBondedBlockHasNoThirdBody) {
   const WearSample& last = wear.samples().back();
   EXPECT_EQ(wear.verdict(), WearVerdict::ductile) << wear.report();
   EXPECT_TRUE(last.walls_joined);
-  EXPECT_EQ(last.third_particles, 0);
+  EXPECT_GT(last.residual, 0.3) << "a sheared layer is not a rigid body";
   EXPECT_NEAR(last.junction_in_bottom, 1.0, 1e-12);
   EXPECT_NEAR(last.junction_in_top, 1.0, 1e-12);
   EXPECT_GT(last.bonded_pairs, 6 * static_cast<long>(sim.particles().size()) / 2 - 1);  // FCC: 12 bonds each

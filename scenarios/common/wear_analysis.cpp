@@ -89,6 +89,10 @@ WearSettings read_wear_settings(const InputNode& n) {
   s.min_volume_fraction = n.quantity("min_volume_fraction", units::dimensionless, s.min_volume_fraction);
   if (!(s.min_volume_fraction > 0 && s.min_volume_fraction <= 1))
     throw input_error(n.path() + ".min_volume_fraction", format_value(s.min_volume_fraction), "must be in (0, 1]");
+  read_range(n, "moving", s.moving_min, s.moving_max);
+  if (!(s.moving_min > 0 && s.moving_max < 1))
+    throw input_error(n.path() + ".moving", "[" + format_value(s.moving_min) + ", " + format_value(s.moving_max) + "]",
+                      "must lie inside (0, 1): fractions of the wall's displacement");
   read_range(n, "centre_speed", s.centre_speed_min, s.centre_speed_max);
   read_range(n, "rolling_number", s.rolling_number_min, s.rolling_number_max);
   s.max_residual = n.quantity("max_residual", units::dimensionless, s.max_residual);
@@ -166,121 +170,150 @@ const WearSample& WearAnalysis::sample(const DemSimulation& sim) {
   }
   streak_ = std::move(streak);
 
-  // 2. Clusters: which hold a wall, and the largest third body.
+  // 2. Bond clusters (diagnostics): which hold a wall, where the junction's volume is bonded.
   std::vector<char> holds_bottom(n, 0), holds_top(n, 0);
-  std::vector<double> volume(n, 0.0), junction_part(n, 0.0);
-  std::vector<long> members(n, 0);
+  std::vector<double> junction_part(n, 0.0);
+  std::vector<double> volume_of(n);
+  std::vector<char> in_junction(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
+    volume_of[i] = 4.0 / 3.0 * kPi * p.radius[i] * p.radius[i] * p.radius[i];
+    in_junction[i] = junction_ids_.count(p.id[i]) ? 1 : 0;
     const std::size_t r = static_cast<std::size_t>(clusters.find(static_cast<int>(i)));
-    const double v = 4.0 / 3.0 * kPi * p.radius[i] * p.radius[i] * p.radius[i];
-    volume[r] += v;
-    members[r] += 1;
-    if (junction_ids_.count(p.id[i])) junction_part[r] += v;
+    if (in_junction[i]) junction_part[r] += volume_of[i];
     if (p.group[i] == bottom_) holds_bottom[r] = 1;
     if (p.group[i] == top_) holds_top[r] = 1;
   }
-  std::size_t third = n;
   for (std::size_t r = 0; r < n; ++r) {
-    if (members[r] == 0) continue;
     if (holds_bottom[r] && holds_top[r]) out.walls_joined = true;
     if (holds_bottom[r]) out.junction_in_bottom += junction_part[r] / junction_volume_;
     if (holds_top[r]) out.junction_in_top += junction_part[r] / junction_volume_;
-    if (!holds_bottom[r] && !holds_top[r]) {
-      out.junction_in_third += junction_part[r] / junction_volume_;
-      // The candidate: the free cluster holding most of the junction (a loose particle of a slab is not one).
-      if (members[r] > 1 && junction_part[r] > 0 && (third == n || junction_part[r] > junction_part[third])) third = r;
-    }
+    if (!holds_bottom[r] && !holds_top[r]) out.junction_in_third += junction_part[r] / junction_volume_;
   }
 
-  // 3. The candidate's rigid-body fit from the displacements since the last sample (unwrapped positions).
+  // 3. The third body, by its motion over the last `window`: every particle's displacement along the sliding
+  // axis as a fraction f of the top wall's (relative to the bottom wall's); particles moving with neither
+  // wall (f_min < f < f_max) joined through pairs in range now; the component holding most of the junction,
+  // fitted by a rigid-body motion (rotation and translation, exact for any angle: Kabsch).
+  std::vector<Vec3> unwrapped(n);
   std::unordered_map<std::int64_t, Vec3> now;
   now.reserve(n);
-  std::vector<Vec3> unwrapped(n);
   for (std::size_t i = 0; i < n; ++i) {
     unwrapped[i] = Vec3{p.x[i] + p.ix[i] * bv.len[0], p.y[i] + p.iy[i] * bv.len[1], p.z[i] + p.iz[i] * bv.len[2]};
     now.emplace(p.id[i], unwrapped[i]);
   }
-  const double interval = out.time - previous_time_;
-  if (third < n) {
-    out.third_particles = members[third];
-    out.third_volume = junction_part[third] / junction_volume_;
-    out.third_from_junction = junction_part[third] / volume[third];
-    std::vector<std::size_t> body;
-    for (std::size_t i = 0; i < n; ++i)
-      if (static_cast<std::size_t>(clusters.find(static_cast<int>(i))) == third) body.push_back(i);
-    bool all_known = !previous_.empty() && interval > 0 && body.size() >= 4;
-    for (std::size_t i : body) all_known = all_known && previous_.count(p.id[i]) > 0;
-    if (all_known) {
-      // Least squares over the members, mass-weighted, about the centre c at the previous sample:
-      // Delta r_i = Delta c + theta x rho_i, rho_i = r_i(prev) - c(prev).
-      double mass = 0;
-      Vec3 c{}, dc{};
-      for (std::size_t i : body) {
-        const Vec3 r0 = previous_.at(p.id[i]);
-        mass += p.mass[i];
-        c += p.mass[i] * r0;
-        dc += p.mass[i] * (unwrapped[i] - r0);
+  history_.push_back({out.time, std::move(now)});
+  // Keep the snapshots back to one window ago (and the one just before, the reference).
+  while (history_.size() > 2 && out.time - history_[1].first >= s_.window * (1 - 1e-9)) history_.pop_front();
+  const auto& [t0, ref] = history_.front();
+  const double interval = out.time - t0;
+  double wall_shift = 0, base_shift = 0, wall_mass = 0, base_mass = 0;
+  for (std::size_t i = 0; i < n && interval > 0; ++i) {
+    const auto it = ref.find(p.id[i]);
+    if (it == ref.end()) continue;
+    const double dx = comp(unwrapped[i] - it->second, s_.sliding_axis);
+    if (p.group[i] == top_) wall_shift += p.mass[i] * dx, wall_mass += p.mass[i];
+    if (p.group[i] == bottom_) base_shift += p.mass[i] * dx, base_mass += p.mass[i];
+  }
+  if (wall_mass > 0) wall_shift /= wall_mass;
+  if (base_mass > 0) base_shift /= base_mass;
+  const double relative = wall_shift - base_shift;
+  // Only over a whole window, and only while the walls slide relative to each other.
+  if (interval >= s_.window * (1 - 1e-9) && std::abs(relative) > 0) {
+    std::vector<char> between(n, 0);
+    std::vector<Vec3> start(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto it = ref.find(p.id[i]);
+      if (it == ref.end() || p.group[i] == bottom_ || p.group[i] == top_) continue;
+      start[i] = it->second;
+      const double f = (comp(unwrapped[i] - start[i], s_.sliding_axis) - base_shift) / relative;
+      between[i] = f > s_.moving_min && f < s_.moving_max ? 1 : 0;
+    }
+    UnionFind bodies(n);
+    for (int i = 0; i < list.rows(); ++i) {
+      const std::size_t a = static_cast<std::size_t>(i);
+      if (!between[a]) continue;
+      for (int k = list.offset()[i]; k < list.offset()[i + 1]; ++k) {
+        const std::size_t b = static_cast<std::size_t>(list.index()[k]);
+        if (!between[b]) continue;
+        const Vec3 d = minimum_image(bv, Vec3{p.x[a] - p.x[b], p.y[a] - p.y[b], p.z[a] - p.z[b]});
+        if (norm(d) < range(p.radius[a], p.radius[b])) bodies.unite(static_cast<int>(a), static_cast<int>(b));
       }
-      c = (1.0 / mass) * c;
-      dc = (1.0 / mass) * dc;
-      Eigen::Matrix3d J = Eigen::Matrix3d::Zero();
-      Eigen::Vector3d L = Eigen::Vector3d::Zero();
+    }
+    std::vector<double> share(n, 0.0);
+    std::vector<long> count(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!between[i]) continue;
+      const std::size_t r = static_cast<std::size_t>(bodies.find(static_cast<int>(i)));
+      count[r] += 1;
+      if (in_junction[i]) share[r] += volume_of[i];
+    }
+    std::size_t third = n;
+    for (std::size_t r = 0; r < n; ++r)
+      if (count[r] >= 4 && share[r] > 0 && (third == n || share[r] > share[third])) third = r;
+    if (third < n) {
+      std::vector<std::size_t> body;
+      double mass = 0, volume = 0;
+      Vec3 c0{}, c1{};
       double lo = 1e300, hi = -1e300;
-      for (std::size_t i : body) {
-        const Vec3 rho = previous_.at(p.id[i]) - c;
-        const Vec3 u = unwrapped[i] - previous_.at(p.id[i]) - dc;
-        const Eigen::Vector3d r(rho.x, rho.y, rho.z), w(u.x, u.y, u.z);
-        J += p.mass[i] * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
-        L += p.mass[i] * r.cross(w);
+      for (std::size_t i = 0; i < n; ++i) {
+        if (!between[i] || static_cast<std::size_t>(bodies.find(static_cast<int>(i))) != third) continue;
+        body.push_back(i);
+        mass += p.mass[i];
+        volume += volume_of[i];
+        c0 += p.mass[i] * start[i];
+        c1 += p.mass[i] * unwrapped[i];
         const double h = comp(unwrapped[i], s_.normal_axis);
         lo = std::min(lo, h - p.radius[i]);
         hi = std::max(hi, h + p.radius[i]);
       }
-      const Eigen::Vector3d theta = J.ldlt().solve(L);
-      double res2 = 0;
+      c0 = (1.0 / mass) * c0;
+      c1 = (1.0 / mass) * c1;
+      // Kabsch: the rotation R maximising sum m (r1 - c1) . R (r0 - c0), from the SVD of their covariance.
+      Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
       for (std::size_t i : body) {
-        const Vec3 rho = previous_.at(p.id[i]) - c;
-        const Vec3 u = unwrapped[i] - previous_.at(p.id[i]) - dc;
-        const Vec3 e = u - cross(Vec3{theta(0), theta(1), theta(2)}, rho);
-        res2 += p.mass[i] * norm2(e);
+        const Vec3 a = start[i] - c0, b = unwrapped[i] - c1;
+        H += p.mass[i] * Eigen::Vector3d(a.x, a.y, a.z) * Eigen::Vector3d(b.x, b.y, b.z).transpose();
       }
+      const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+      Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+      D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1.0 : 1.0;
+      const Eigen::Matrix3d R = svd.matrixV() * D * svd.matrixU().transpose();
+      // The fit's error against the motion it had to explain: the spread of the displacements about the
+      // centre's (a rigid body: ~0; a sheared layer: ~0.7, its strain is what no rotation fits), or a quarter
+      // of the walls' relative displacement when that spread is smaller (a body translating without spin).
+      double res2 = 0, spread2 = 0;
+      for (std::size_t i : body) {
+        const Vec3 a = start[i] - c0, b = unwrapped[i] - c1;
+        const Eigen::Vector3d e = R * Eigen::Vector3d(a.x, a.y, a.z) - Eigen::Vector3d(b.x, b.y, b.z);
+        res2 += p.mass[i] * e.squaredNorm();
+        spread2 += p.mass[i] * norm2(b - a);
+      }
+      const double scale = std::max(std::sqrt(spread2 / mass), 0.25 * std::abs(relative));
+      // The rotation angle about the rolling axis n x s (positive when the body rolls with the wall).
+      const Eigen::AngleAxisd aa(R);
       const Vec3 roll_axis = cross(axis_vector(s_.normal_axis), axis_vector(s_.sliding_axis));
-      const double spin = (theta(0) * roll_axis.x + theta(1) * roll_axis.y + theta(2) * roll_axis.z) / interval;
-      const double radius = 0.5 * (hi - lo);
+      const double angle = aa.angle() * (aa.axis()(0) * roll_axis.x + aa.axis()(1) * roll_axis.y +
+                                         aa.axis()(2) * roll_axis.z);
+      // For a body rolling without slip f grows linearly across its height, so the particles kept
+      // (f_min < f < f_max) span that fraction of it: the rolling radius is their extent over it, halved.
+      const double radius = 0.5 * (hi - lo) / (s_.moving_max - s_.moving_min);
       out.kinematics = true;
-      out.spin = spin;
-      if (wall_speed != 0) {
-        out.centre_speed = comp(dc, s_.sliding_axis) / interval / wall_speed;
-        out.rolling_number = 2.0 * radius * spin / wall_speed;
-        out.residual = std::sqrt(res2 / mass) / std::abs(wall_speed * interval);
-      }
+      out.third_particles = static_cast<long>(body.size());
+      out.third_volume = share[third] / junction_volume_;
+      out.third_from_junction = share[third] / volume;
+      out.spin = angle / interval;
+      out.centre_speed = (comp(c1 - c0, s_.sliding_axis) - base_shift) / relative;
+      out.rolling_number = 2.0 * radius * angle / relative;
+      out.residual = std::sqrt(res2 / mass) / scale;
     }
   }
-  previous_ = std::move(now);
-  previous_time_ = out.time;
 
-  // 4. Window averages over the samples that had a fit, and the verdict.
+  // 4. The verdict: a third body (enough of the junction, moving rigidly) that rolls, or not.
   samples_.push_back(out);
   WearSample& last = samples_.back();
-  double sum_c = 0, sum_r = 0, sum_e = 0;
-  int count = 0;
-  for (auto it = samples_.rbegin(); it != samples_.rend() && last.time - it->time <= s_.window * (1 + 1e-9); ++it) {
-    if (!it->kinematics || it->third_volume < s_.min_volume_fraction) continue;
-    sum_c += it->centre_speed;
-    sum_r += it->rolling_number;
-    sum_e += it->residual;
-    ++count;
-  }
-  if (count > 0) {
-    last.mean_centre_speed = sum_c / count;
-    last.mean_rolling_number = sum_r / count;
-    last.mean_residual = sum_e / count;
-  }
-  if (last.third_volume >= s_.min_volume_fraction) {
-    const bool rolls = count > 0 && last.mean_centre_speed >= s_.centre_speed_min &&
-                       last.mean_centre_speed <= s_.centre_speed_max &&
-                       last.mean_rolling_number >= s_.rolling_number_min &&
-                       last.mean_rolling_number <= s_.rolling_number_max && last.mean_residual <= s_.max_residual;
+  if (last.kinematics && last.third_volume >= s_.min_volume_fraction && last.residual <= s_.max_residual) {
+    const bool rolls = last.centre_speed >= s_.centre_speed_min && last.centre_speed <= s_.centre_speed_max &&
+                       last.rolling_number >= s_.rolling_number_min && last.rolling_number <= s_.rolling_number_max;
     last.verdict = rolls ? WearVerdict::rolling : WearVerdict::detached;
   }
   return last;
@@ -290,16 +323,14 @@ std::vector<std::string> WearAnalysis::columns() {
   return {"step",           "time",           "wall_force",        "wall_slide",       "wall_normal",
           "bonded_pairs",   "walls_joined",   "junction_in_bottom", "junction_in_top", "junction_in_third",
           "third_particles", "third_volume",  "third_from_junction", "centre_speed",    "spin",
-          "rolling_number", "residual",       "mean_centre_speed", "mean_rolling_number", "mean_residual",
-          "verdict"};
+          "rolling_number", "residual",       "verdict"};
 }
 
 std::vector<double> WearAnalysis::row(const WearSample& s) {
   return {static_cast<double>(s.step), s.time, s.wall_force, s.wall_slide, s.wall_normal,
           static_cast<double>(s.bonded_pairs), s.walls_joined ? 1.0 : 0.0, s.junction_in_bottom, s.junction_in_top,
           s.junction_in_third, static_cast<double>(s.third_particles), s.third_volume, s.third_from_junction,
-          s.centre_speed, s.spin, s.rolling_number, s.residual, s.mean_centre_speed, s.mean_rolling_number,
-          s.mean_residual, static_cast<double>(static_cast<int>(s.verdict))};
+          s.centre_speed, s.spin, s.rolling_number, s.residual, static_cast<double>(static_cast<int>(s.verdict))};
 }
 
 WearVerdict WearAnalysis::verdict() const { return samples_.empty() ? WearVerdict::ductile : samples_.back().verdict; }
@@ -307,7 +338,7 @@ WearVerdict WearAnalysis::verdict() const { return samples_.empty() ? WearVerdic
 long WearAnalysis::detection_index() const {
   long first = -1;
   for (long k = static_cast<long>(samples_.size()) - 1; k >= 0; --k) {
-    if (samples_[static_cast<std::size_t>(k)].third_volume < s_.min_volume_fraction) break;
+    if (samples_[static_cast<std::size_t>(k)].verdict == WearVerdict::ductile) break;
     first = k;
   }
   return first;
@@ -320,21 +351,25 @@ std::string WearAnalysis::report() const {
   const WearSample& last = samples_.back();
   os << "wear: verdict " << verdict_name(last.verdict) << " at step " << last.step << " (t = " << last.time
      << " s, the top wall slid " << last.wall_slide << " m)\n";
-  os << "wear: junction volume bonded to the bottom " << last.junction_in_bottom << ", to the top "
-     << last.junction_in_top << ", in third bodies " << last.junction_in_third
-     << (last.walls_joined ? "; the walls are still bonded to each other" : "; the walls are not bonded to each other");
+  if (last.kinematics)
+    os << "wear: over the last " << s_.window << " s, the candidate third body holds " << last.third_volume
+       << " of the junction's volume [>= " << s_.min_volume_fraction << "] (" << last.third_particles << " particles, "
+       << last.third_from_junction << " of its volume from the junction); rigid-fit residual " << last.residual
+       << " [<= " << s_.max_residual << "], centre speed " << last.centre_speed << " of the wall's ["
+       << s_.centre_speed_min << ", " << s_.centre_speed_max << "], rolling number " << last.rolling_number << " ["
+       << s_.rolling_number_min << ", " << s_.rolling_number_max << "]\n";
+  else
+    os << "wear: no candidate third body over the last " << s_.window << " s\n";
   const long k = detection_index();
   if (k >= 0) {
     const WearSample& d = samples_[static_cast<std::size_t>(k)];
-    os << "\nwear: third body of " << last.third_volume << " junction volumes (" << last.third_particles
-       << " particles, " << last.third_from_junction << " of it from the junction), seen from t = " << d.time
-       << " s (slide " << d.wall_slide << " m; bonds take " << s_.persistence
-       << " s to count, so it broke off about then minus that)\n"
-       << "wear: over the last " << s_.window << " s: centre speed " << last.mean_centre_speed
-       << " of the wall's [" << s_.centre_speed_min << ", " << s_.centre_speed_max << "], rolling number "
-       << last.mean_rolling_number << " [" << s_.rolling_number_min << ", " << s_.rolling_number_max
-       << "], rigid-fit residual " << last.mean_residual << " [< " << s_.max_residual << "]";
+    os << "wear: a rigid third body since t = " << d.time << " s (slide " << d.wall_slide
+       << " m; the window reaches back " << s_.window << " s from there)\n";
   }
+  os << "wear: bonds (pairs in range for " << s_.persistence << " s) hold " << last.junction_in_bottom
+     << " of the junction's volume to the bottom wall, " << last.junction_in_top << " to the top wall, "
+     << last.junction_in_third << " to neither; "
+     << (last.walls_joined ? "a chain of them joins the walls" : "no chain of them joins the walls");
   return os.str();
 }
 

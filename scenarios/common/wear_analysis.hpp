@@ -3,37 +3,38 @@
 // stay part of the surfaces (ductile), or break off and roll between them as a third body (a rolling wear
 // particle)? The paper decides by looking at pictures; this decides with numbers, sampled during the run.
 //
-// Bonds, not ranges. Under a normal load every particle is within interaction range (r_i + r_j + delta_f)
-// of a neighbour, so clusters by range alone join both walls, both bodies and the junction into one. A
-// cohesive solid keeps its bonds, though, while a rolling body's contacts with the surfaces come and go: a
-// pair at a rolling contact stays in range only while the body turns through the contact's width w,
-// w / (v/2) for a wall speed v (about 1.2 ns for w = 6 nm at 10 m/s). So a pair is *bonded* once it has
-// been within range at every sample for `persistence` (longer than that), and clusters are the connected
-// components of the bonded pairs. The walls' clusters hold the walls' members; a *third body* is a cluster
-// holding no wall member, and the candidate wear particle is the one holding most of the junction's volume.
-// How long is long enough: the longest-lived contact that is not a bond is one between two of the largest
-// particles (diameter d_l) rolling or sliding over each other under load, which stays in range over a
-// relative travel of 2 sqrt(2 d_l delta_f + delta_f^2) (6.2 nm for d_l = 7.5 nm, delta_f = 0.62 nm), at v/2
-// for a body rolling on a surface: 1.2 ns at 10 m/s. Twice that is safe.
-//
-// Kinematics without thermal noise. Instantaneous velocities are dominated by vibration (about 25 m/s for
-// 3 nm silica particles, more than the wall speed), but a displacement over the sampling interval (many
-// vibration periods) is not: the centre velocity and the spin of the candidate come from a least-squares
-// rigid-body fit of its members' displacements between two samples, Delta r_i = Delta c + theta x (r_i - c),
-// whose residual says how rigid it moved. They are averaged over the last `window` of samples.
+// Motion, not range. Under a normal load every particle is within interaction range (r_i + r_j +
+// delta_f) of a neighbour, so clusters by range alone join both walls, both bodies and the junction into
+// one. Nor does persistence of range tell bonds from contacts well enough: two of the largest particles
+// (7.5 nm) rolling over each other under load stay in range over ~6 nm of travel, and particles trapped
+// between the surfaces stick and slip, so range-persistent chains were seen to join the two walls of a
+// junction that had plainly been sheared through. What does tell is motion over a window W (`window`,
+// many vibration periods, so free of thermal noise, which is ~25 m/s for 3 nm particles): each particle's
+// displacement along the sliding axis as a fraction f of the top wall's (relative to the bottom wall's).
+// A particle of either body has f near 0 or 1; a body rolling between them has f from 0 at its bottom to
+// 1 at its top, its centre at 1/2; a sheared (ductile) junction has f spread over a layer that spans the box.
+// The particles with f_min < f < f_max (`moving`), joined through pairs in range, form candidate bodies; the
+// one holding most of the junction's volume is fitted by a rigid motion over W (rotation and translation,
+// Kabsch, exact for any angle).
 //
 // The verdict, from stated thresholds (input settings, not tuned per case):
-//   rolling wear particle: a third body holding at least `min_volume_fraction` of the junction's volume,
-//     whose centre moves at `centre_speed` (a fraction of the wall speed; a body rolling without slip
-//     between a fixed and a moving surface moves at 1/2), with a rolling number 2 R omega / v in
-//     `rolling_number` (1 for rolling without slip; R is half its height along the normal), and a rigid-fit
-//     residual below `max_residual` (rms, as a fraction of the wall's displacement in the interval);
-//   detached, not rolling: such a third body whose kinematics miss those bounds;
-//   ductile: no such third body (the junction stays bonded to the surfaces).
+//   rolling wear particle: a candidate holding at least `min_volume_fraction` of the junction's volume that
+//     moves rigidly (rms residual of the fit below `max_residual` of the spread of its displacements about
+//     its centre's, or of a quarter of the walls' relative displacement if larger: a rigid body gives ~0, a
+//     sheared layer ~0.7, its strain being what no rotation fits), whose centre moves at `centre_speed` (a fraction of the wall's
+//     relative speed; rolling without slip: 1/2), with a rolling number 2 R omega / v in `rolling_number`
+//     (1 for rolling without slip; 2R is its height, the extent of the particles kept over f_max - f_min,
+//     since f grows linearly across a rolling body's height);
+//   detached, not rolling: such a rigid candidate whose centre speed or spin miss those bounds;
+//   ductile: no rigid candidate holding enough of the junction.
 // omega is the spin about n x s (normal x sliding direction), positive when the body rolls with the wall.
+//
+// Also reported, as diagnostics: clusters of range-persistent pairs ("bonds": in range at every sample for
+// `persistence`), which hold each wall and where the junction's volume is bonded.
 #include <cstdint>
 #include <deque>
 #include <string>
+#include <utility>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -51,7 +52,8 @@ struct WearSettings {
   std::string junction_label;     // the label of the junction's particles (its volume is the reference)
   int sliding_axis = 0, normal_axis = 1;
   double persistence = 0;         // s: a pair is bonded after staying in range this long
-  double window = 0;              // s: kinematics averaged over the samples of this last stretch
+  double window = 0;              // s: displacements over this last stretch carry the kinematics
+  double moving_min = 0.1, moving_max = 0.9;  // f range of particles moving with neither wall
   double min_volume_fraction = 0.25;
   double centre_speed_min = 0.25, centre_speed_max = 0.75;
   double rolling_number_min = 0.5, rolling_number_max = 1.5;
@@ -74,11 +76,11 @@ struct WearSample {
   long bonded_pairs = 0;
   bool walls_joined = false;     // one cluster holds both walls (the junction still bonds them)
   double junction_in_bottom = 0, junction_in_top = 0, junction_in_third = 0;  // shares of its volume
-  // The largest third body (zeros when there is none).
+  // The candidate third body over the window (zeros when there is none).
   long third_particles = 0;
   double third_volume = 0;       // the junction's volume it holds, over the junction's volume
   double third_from_junction = 0;  // share of its volume that started in the junction
-  double centre_speed = 0;       // of its centre along the sliding axis, over the wall speed
+  double centre_speed = 0;       // its centre's displacement along the sliding axis, over the wall's
   double spin = 0;               // rad/s about n x s
   double rolling_number = 0;     // 2 R spin / v
   double residual = 0;           // rigid-fit rms residual over the wall's displacement in the interval
@@ -104,7 +106,7 @@ class WearAnalysis {
   /// The verdict of the run so far and a paragraph explaining it with its numbers.
   WearVerdict verdict() const;
   std::string report() const;
-  /// First sample of the final unbroken stretch with a third body of sufficient volume (-1: none).
+  /// First sample of the final unbroken stretch with a rigid third body (rolling or not; -1: none).
   long detection_index() const;
 
  private:
@@ -114,8 +116,8 @@ class WearAnalysis {
   double junction_volume_ = 0;
   std::unordered_set<std::int64_t> junction_ids_;
   std::unordered_map<std::uint64_t, long> streak_;  // pair (ids) -> step since which it is in range
-  std::unordered_map<std::int64_t, Vec3> previous_;  // unwrapped position by id at the last sample
-  double previous_time_ = 0;
+  // Unwrapped positions by id at the samples of the last window (the oldest is the reference).
+  std::deque<std::pair<double, std::unordered_map<std::int64_t, Vec3>>> history_;
   std::vector<WearSample> samples_;
 };
 

@@ -39,7 +39,7 @@ def nm(v):
     return f"{v * 1e9:.4f} nm"
 
 
-def write(d0, D):
+def write(d0, D, load_mpa=100, settle=True, slide_ns=SLIDE_NS, variant="", folder=HERE):
     case = CASES[d0]
     lo, hi = box_of(case["data"])
     d0_m = float(case.get("d0", d0)) * 1e-9
@@ -53,7 +53,12 @@ def write(d0, D):
     cylinder = (f"{{cylinder: {{axis: y, centre: [{nm(xc)}, 0, {nm(zc)}], radius: {nm(D_m / 2)}, "
                 f"extent: [{nm(gap[0])}, {nm(gap[1])}]}}}}")
     d0_label, _, seed = d0.partition("_")
-    name = f"junction_D{D}_d0_{d0_label}nm" + (f"_{seed}" if seed else "")
+    name = f"junction_D{D}_d0_{d0_label}nm" + (f"_{seed}" if seed else "") + variant
+    data = case["data"] if folder == HERE else "../" + case["data"]
+    settle_stage = f"""  - name: settle               # the carved faces relax under the load, damped
+    duration: {SETTLE_NS} ns
+    global_damping: 0.1
+""" if settle else ""
     text = f"""# Sheared junction of paper A section 4 (Figs 9, 10, A.10): D = {D} nm, d0 = {d0} nm. Two amorphous silica
 # bodies joined by a cylinder of diameter D and height D/2 (axis y), rigid walls {1.5 * d0_m * 1e9:g} nm (1.5 d0)
 # thick at the outer faces; the bottom wall is fixed, the top wall slides at 10 m/s along x under a normal
@@ -72,7 +77,7 @@ material:                      # Table 5, s = 0.5
   scaling: 0.5
 
 particles:
-  lammps_data: {case['data']}
+  lammps_data: {data}
   masses_from_file: true       # the relaxed sample's masses (total mass / box volume = rho)
 
 box:
@@ -98,17 +103,14 @@ groups:
     region: {{block: {{y: [{nm(hi[1] - wall)}, inf]}}}}
     motion: force              # rigid: y moves under the load, x and z prescribed
     velocity: [0, free, 0]     # at rest while settling
-    stress: [0, -100 MPa, 0]   # times the x-z area of the box
+    stress: [0, -{load_mpa} MPa, 0]   # times the x-z area of the box
 
 stages:
-  - name: settle               # the carved faces relax under the load, damped
-    duration: {SETTLE_NS} ns
-    global_damping: 0.1
-  - name: slide
-    duration: {SLIDE_NS} ns
+{settle_stage}  - name: slide
+    duration: {slide_ns} ns
     global_damping: 0
     groups:
-      - {{name: top_wall, motion: force, velocity: [10 m/s, free, 0], stress: [0, -100 MPa, 0]}}
+      - {{name: top_wall, motion: force, velocity: [10 m/s, free, 0], stress: [0, -{load_mpa} MPa, 0]}}
 
 run:
   time_step: {case['dt_fs']} fs              # Table 6
@@ -123,21 +125,22 @@ wear:
   junction_label: junction
   sliding_axis: x
   normal_axis: y
-  persistence: 2.5 ns          # a pair is a bond after 2.5 ns in range (no rolling contact lasts 1.3 ns)
-  window: 2 ns                 # kinematics averaged over the last 2 ns
+  window: 2 ns                 # motion over the last 2 ns (20 nm of sliding) decides
+  moving: [0.1, 0.9]           # particles moving with neither wall: 0.1 < f < 0.9 of the wall's displacement
   min_volume_fraction: 0.25    # a wear particle holds at least a quarter of the junction's volume
-  centre_speed: [0.25, 0.75]   # of the wall speed (rolling without slip: 0.5)
+  max_residual: 0.3            # it moves rigidly: rigid-fit residual / displacement spread (rigid ~0, shear ~0.7)
+  centre_speed: [0.25, 0.75]   # of the wall's (rolling without slip: 0.5)
   rolling_number: [0.5, 1.5]   # 2 R omega / v (rolling without slip: 1)
-  max_residual: 0.3            # rigid-fit rms residual over the wall's displacement per sample
+  persistence: 2.5 ns          # diagnostics only: a pair in range this long counts as a bond
 
 output:
-  directory: out/wear/{name}
+  directory: out/wear/{name if folder == HERE else "study/" + name}
   thermo_every: {steps(SAMPLE_NS)}
   dump_every: {steps(FRAME_NS)}
   checkpoint_every: {steps(1.0)}        # 1 ns
   progress_seconds: 30
 """
-    (HERE / f"{name}.yaml").write_text(text)
+    (folder / f"{name}.yaml").write_text(text)
     return name
 
 
@@ -145,3 +148,11 @@ if __name__ == "__main__":
     for d0 in CASES:
         for D in (10, 20):
             print(write(d0, D))
+    # The set-up study of D = 20 nm at d0 = 6 nm (the paper leaves these unstated): one change at a time from
+    # the inputs above, on the three samples.
+    study = HERE / "study"
+    study.mkdir(exist_ok=True)
+    for d0 in ("6", "6_seed2", "6_seed3"):
+        print(write(d0, 20, load_mpa=10, variant="_load10MPa", folder=study))
+        print(write(d0, 20, settle=False, variant="_nosettle", folder=study))
+        print(write(d0, 20, slide_ns=20.0, variant="_20ns", folder=study))

@@ -42,8 +42,12 @@ def read_frames(path):
 
 
 def side_views(frames, picks, out, title):
-    fig, axes = plt.subplots(len(picks), 1, figsize=(7.5, 2.6 * len(picks)), squeeze=False)
-    for ax, k in zip(axes[:, 0], picks):
+    cols = 2 if len(picks) > 1 else 1
+    rows = (len(picks) + cols - 1) // cols
+    fig, axes = plt.subplots(rows, cols, figsize=(5.2 * cols, 3.9 * rows), squeeze=False)
+    for ax in axes.flat[len(picks):]:
+        ax.axis("off")
+    for ax, k in zip(axes.flat, picks):
         step, box, c = frames[k]
         lx = box[0][1] - box[0][0]
         # Back to front along z so nearer particles cover farther ones; x wrapped into the box.
@@ -59,8 +63,9 @@ def side_views(frames, picks, out, title):
         ax.set_ylim(box[1][0] * 1e9 - 2, box[1][1] * 1e9 + 2)
         ax.set_aspect("equal")
         ax.set_ylabel("y (nm)")
-        ax.set_title(f"step {step}", fontsize=9)
-    axes[-1, 0].set_xlabel("x (nm), periodic")
+        time = c.get("_time")
+        ax.set_title(f"step {step}" + (f", slide {time}" if time else ""), fontsize=9)
+        ax.set_xlabel("x (nm), periodic", fontsize=8)
     handles = [plt.Line2D([], [], marker="o", ls="", color=COLOURS[k], label=v) for k, v in NAMES.items()]
     axes[0, 0].legend(handles=handles, fontsize=7, loc="upper right", ncol=4)
     fig.suptitle(title, fontsize=10)
