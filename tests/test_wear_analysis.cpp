@@ -23,7 +23,7 @@ struct JunctionSystem {
   Groups groups;
 };
 
-JunctionSystem make_system(bool ball) {
+JunctionSystem make_system(bool ball, bool across_face = false) {
   LatticeSpec spec;
   spec.kind = LatticeKind::fcc;
   spec.spacing = 100;
@@ -33,7 +33,8 @@ JunctionSystem make_system(bool ball) {
   JunctionSystem s;
   s.box = Box(lat.box.lo(), lat.box.hi(), {true, false, true});
   Particles& p = lat.particles;
-  const Vec3 c = 0.5 * (lat.box.lo() + lat.box.hi());
+  Vec3 c = 0.5 * (lat.box.lo() + lat.box.hi());
+  if (across_face) c.x = lat.box.lo().x + 20;  // the ball straddles the periodic x face
   const double y_hi = lat.box.hi().y;
   std::vector<char> remove(p.size(), 0);
   Group bottom{"bottom", GroupMotion::frozen};
@@ -47,7 +48,7 @@ JunctionSystem make_system(bool ball) {
       p.group[i] = 0;
     } else if (x.y > y_hi - 150) {
       p.group[i] = 1;
-    } else if (norm(x - c) < 260 || (!ball && x.y > 400 && x.y < y_hi - 400)) {
+    } else if (norm(minimum_image(s.box.view(), x - c)) < 260 || (!ball && x.y > 400 && x.y < y_hi - 400)) {
       p.label[i] = 1;  // the junction: the ball, or the middle of the block
     } else if (ball) {
       remove[i] = 1;
@@ -66,20 +67,26 @@ DemSettings settings() {
   return s;
 }
 
-// Sets the labelled body moving rigidly: centre velocity v_c along x, spin w about z.
+// Sets the labelled body moving rigidly: centre velocity v_c along x, spin w about z. Positions are taken
+// relative to the first member through minimum images (the ball may straddle a periodic face).
 void set_body_motion(DemSimulation& sim, double v_c, double w) {
   Particles& p = sim.particles();
+  const BoxView b = sim.box().view();
+  std::size_t first = 0;
+  while (p.label[first] != 1) ++first;
+  const Vec3 anchor{p.x[first], p.y[first], p.z[first]};
+  auto rel = [&](std::size_t i) { return minimum_image(b, Vec3{p.x[i], p.y[i], p.z[i]} - anchor); };
   Vec3 c{};
   double m = 0;
   for (std::size_t i = 0; i < p.size(); ++i)
     if (p.label[i] == 1) {
-      c += p.mass[i] * Vec3{p.x[i], p.y[i], p.z[i]};
+      c += p.mass[i] * rel(i);
       m += p.mass[i];
     }
   c = (1.0 / m) * c;
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (p.label[i] != 1) continue;
-    const Vec3 v = Vec3{v_c, 0, 0} + cross(Vec3{0, 0, w}, Vec3{p.x[i], p.y[i], p.z[i]} - c);
+    const Vec3 v = Vec3{v_c, 0, 0} + cross(Vec3{0, 0, w}, rel(i) - c);
     p.vx[i] = v.x;
     p.vy[i] = v.y;
     p.vz[i] = v.z;
@@ -145,6 +152,20 @@ TEST(WearAnalysis, BallRollingWithoutSlipIsARollingWearParticle) {
   EXPECT_EQ(wear.detection_index(), 6);
   // Its bonds: every pair of the ball stayed in range, so it is one bonded cluster bonded to neither wall.
   EXPECT_NEAR(last.junction_in_third, 1.0, 1e-12);
+}
+
+// The same across the periodic x face: members joined through minimum images are fitted as one body.
+TEST(WearAnalysis, BallRollingAcrossAPeriodicFaceIsOneBody) {
+  JunctionSystem s = make_system(true, true);
+  DemSimulation sim(s.box, std::move(s.particles), std::move(s.groups), settings());
+  const double R = half_height(sim.particles());
+  set_body_motion(sim, 0.5 * kWallSpeed, -kWallSpeed / (2 * R));
+  const WearAnalysis wear = run(sim, 1500);
+  const WearSample& last = wear.samples().back();
+  EXPECT_EQ(wear.verdict(), WearVerdict::rolling) << wear.report();
+  EXPECT_GT(last.third_volume, 0.9);
+  EXPECT_NEAR(last.centre_speed, 0.5, 0.01);
+  EXPECT_LT(last.residual, 0.02);
 }
 
 TEST(WearAnalysis, BallSlidingWithoutSpinIsDetachedButDoesNotRoll) {

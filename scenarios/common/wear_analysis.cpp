@@ -252,12 +252,26 @@ const WearSample& WearAnalysis::sample(const DemSimulation& sim) {
       if (count[r] >= 4 && share[r] > 0 && (third == n || share[r] > share[third])) third = r;
     if (third < n) {
       std::vector<std::size_t> body;
+      for (std::size_t i = 0; i < n; ++i)
+        if (between[i] && static_cast<std::size_t>(bodies.find(static_cast<int>(i))) == third) body.push_back(i);
+      // Its members joined through minimum images, but their unwrapped positions may sit in different periodic
+      // images (a body across a periodic face): move each, now and at the start alike, to the image nearest
+      // the first member, so the fit sees one body (bodies are far smaller than half the box).
+      const Vec3 anchor = unwrapped[body.front()];
+      for (std::size_t i : body) {
+        Vec3 shift{};
+        for (int a = 0; a < 3; ++a) {
+          if (!bv.periodic[a]) continue;
+          const double k = std::round((comp(unwrapped[i], a) - comp(anchor, a)) / bv.len[a]);
+          (a == 0 ? shift.x : (a == 1 ? shift.y : shift.z)) = -k * bv.len[a];
+        }
+        unwrapped[i] += shift;
+        start[i] += shift;
+      }
       double mass = 0, volume = 0;
       Vec3 c0{}, c1{};
       double lo = 1e300, hi = -1e300;
-      for (std::size_t i = 0; i < n; ++i) {
-        if (!between[i] || static_cast<std::size_t>(bodies.find(static_cast<int>(i))) != third) continue;
-        body.push_back(i);
+      for (std::size_t i : body) {
         mass += p.mass[i];
         volume += volume_of[i];
         c0 += p.mass[i] * start[i];
