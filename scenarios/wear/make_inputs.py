@@ -18,6 +18,8 @@ CASES = {
     # Two more samples at d0 = 6 nm (seeds 2 and 3 of sample_d0_6nm_seed*.yaml), for the seed study and ctest.
     "6_seed2": dict(data="data/silica_d0_6nm_seed2.data", dt_fs=80, d0=6),
     "6_seed3": dict(data="data/silica_d0_6nm_seed3.data", dt_fs=80, d0=6),
+    "3_seed2": dict(data="data/silica_d0_3nm_seed2.data", dt_fs=40, d0=3),
+    "3_seed3": dict(data="data/silica_d0_3nm_seed3.data", dt_fs=40, d0=3),
 }
 SETTLE_NS = 0.2      # settling under the load before sliding (the paper is silent): see README
 SLIDE_NS = 10.0      # 10 ns of sliding (Table 6)
@@ -148,11 +150,11 @@ if __name__ == "__main__":
     for d0 in CASES:
         for D in (10, 20):
             print(write(d0, D))
-    # The set-up study of D = 20 nm at d0 = 6 nm (the paper leaves these unstated): one change at a time from
-    # the inputs above, on the three samples.
+    # The set-up study of D = 20 nm at d0 = 6 and 3 nm (the paper leaves these unstated): one change at a
+    # time from the inputs above, on three samples each.
     study = HERE / "study"
     study.mkdir(exist_ok=True)
-    for d0 in ("6", "6_seed2", "6_seed3"):
+    for d0 in ("6", "6_seed2", "6_seed3", "3", "3_seed2", "3_seed3"):
         print(write(d0, 20, load_mpa=10, variant="_load10MPa", folder=study))
         print(write(d0, 20, settle=False, variant="_nosettle", folder=study))
         print(write(d0, 20, slide_ns=20.0, variant="_20ns", folder=study))

@@ -41,7 +41,15 @@ def read_frames(path):
     return frames
 
 
-def side_views(frames, picks, out, title):
+def slides(wear_csv):
+    """Top wall's sliding distance by step, from wear.csv (empty without one)."""
+    if not wear_csv.exists():
+        return {}
+    with open(wear_csv) as f:
+        return {int(float(r["step"])): float(r["wall_slide"]) for r in csv.DictReader(f)}
+
+
+def side_views(frames, picks, out, title, slide=None):
     cols = 2 if len(picks) > 1 else 1
     rows = (len(picks) + cols - 1) // cols
     fig, axes = plt.subplots(rows, cols, figsize=(5.2 * cols, 3.9 * rows), squeeze=False)
@@ -63,14 +71,14 @@ def side_views(frames, picks, out, title):
         ax.set_ylim(box[1][0] * 1e9 - 2, box[1][1] * 1e9 + 2)
         ax.set_aspect("equal")
         ax.set_ylabel("y (nm)")
-        time = c.get("_time")
-        ax.set_title(f"step {step}" + (f", slide {time}" if time else ""), fontsize=9)
+        moved = (slide or {}).get(step)
+        ax.set_title(f"step {step}" + (f", top wall slid {moved * 1e9:.0f} nm" if moved is not None else ""), fontsize=9)
         ax.set_xlabel("x (nm), periodic", fontsize=8)
     handles = [plt.Line2D([], [], marker="o", ls="", color=COLOURS[k], label=v) for k, v in NAMES.items()]
     axes[0, 0].legend(handles=handles, fontsize=7, loc="upper right", ncol=4)
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    fig.savefig(out, dpi=110)
+    fig.savefig(out, dpi=80)
     plt.close(fig)
 
 
@@ -86,7 +94,7 @@ def force_plot(wear_csv, out, title):
     ax.set_title(title, fontsize=10)
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    fig.savefig(out, dpi=110)
+    fig.savefig(out, dpi=80)
     plt.close(fig)
 
 
@@ -96,6 +104,7 @@ def main():
     ap.add_argument("--frames", default="", help="frame indices, e.g. 0,4,10,20 (default: 4 spread over the run)")
     ap.add_argument("--out", type=pathlib.Path)
     ap.add_argument("--title", default="")
+    ap.add_argument("--prefix", default="", help="prefix of the PNG names (e.g. the case name)")
     a = ap.parse_args()
     out = a.out or a.run
     out.mkdir(parents=True, exist_ok=True)
@@ -103,10 +112,10 @@ def main():
     picks = [int(k) for k in a.frames.split(",")] if a.frames else sorted(
         {0, len(frames) // 3, 2 * len(frames) // 3, len(frames) - 1})
     title = a.title or a.run.name
-    side_views(frames, picks, out / "side_views.png", title)
+    side_views(frames, picks, out / f"{a.prefix}side_views.png", title, slides(a.run / "wear.csv"))
     if (a.run / "wear.csv").exists():
-        force_plot(a.run / "wear.csv", out / "force.png", title)
-    print(f"wrote {out / 'side_views.png'} and {out / 'force.png'}")
+        force_plot(a.run / "wear.csv", out / f"{a.prefix}force.png", title)
+    print(f"wrote {out / (a.prefix + 'side_views.png')} and {out / (a.prefix + 'force.png')}")
 
 
 if __name__ == "__main__":
