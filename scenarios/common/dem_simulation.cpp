@@ -75,6 +75,7 @@ void DemSimulation::setup() {
   max_cutoff_ = CohesiveCutoff{coef_}(r_max, r_max);
   skin_ = settings_.skin > 0.0 ? settings_.skin : 0.2 * r_min;
   if (settings_.skin < 0.0) throw input_error("run.skin", format_value(settings_.skin), "must be >= 0");
+  list_.set_max_size_classes(settings_.size_classes);
 
   rebuild_neighbors();
   compute_forces(0);
