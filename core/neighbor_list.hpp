@@ -146,18 +146,6 @@ inline Stencil point_stencil(double px, double py, double pz, const ClassGrid& g
   return st;
 }
 
-/// Room for the row of particle i of class a in a size-class search: the particles of its stencils.
-inline int class_candidates(int i, int a, const ClassGrids& G, const double* x, const double* y, const double* z,
-                            const int* start_all, const BoxView& b) {
-  int total = 0;
-  for (int c = 0; c < G.classes; ++c) {
-    const ClassGrid& g = G.g[a * G.classes + c];
-    if (g.n0 == 0) continue;
-    total += stencil_candidates(point_stencil(x[i], y[i], z[i], g, b), start_all + g.start_base, g.n0, g.n1);
-  }
-  return total;
-}
-
 /// neighbor_row for particle i of class a in a size-class search: each class's grid (a, c) in turn, with
 /// the reach of the largest (a, c) pair, written one after the other.
 template <class Cutoff>
@@ -351,9 +339,24 @@ void NeighborList::build(const BoxView& box, const Particles& p, Cutoff cutoff, 
                            idx + off[i]);
     candidates_ = 0;
 #else
+    // As neighbor_row_classes, with each class's stencil placed once for the room and the scan.
     fill_rows_host(n, [&](int i, auto& room) {
-      return neighbor_row_classes(i, cls[i], grids, x, y, z, r, start_all, sorted_all, b, cutoff, skin, half,
-                                  wrapped, room(class_candidates(i, cls[i], grids, x, y, z, start_all, b)));
+      const ClassGrid* g = grids.g + cls[i] * k;
+      Stencil st[SizeClasses::kMax];
+      int candidates = 0;
+      for (int c = 0; c < k; ++c) {
+        if (g[c].n0 == 0) continue;
+        st[c] = point_stencil(x[i], y[i], z[i], g[c], b);
+        candidates += stencil_candidates(st[c], start_all + g[c].start_base, g[c].n0, g[c].n1);
+      }
+      int* out = room(candidates);
+      int count = 0;
+      for (int c = 0; c < k; ++c) {
+        if (g[c].n0 == 0) continue;
+        count += neighbor_row(i, st[c], x, y, z, r, start_all + g[c].start_base, sorted_all, g[c].n0, g[c].n1,
+                              g[c].n2, b, cutoff, skin, g[c].reach2, half, wrapped, out + count);
+      }
+      return count;
     });
 #endif
     record(box, p, skin, kind);
