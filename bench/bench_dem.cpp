@@ -18,7 +18,7 @@
 //                     read from bench/data/silica_d0_1.5nm.data (LAMMPS data, masses from the file), periodic
 //                     in x and z, free in y, Table 5 silica with s = 0.5, dt = 0.1 dt_c, no damping, thermal
 //                     velocities of 25 m/s rms (Gaussian components, seed fixed, no net momentum) so that the
-//                     list is rebuilt at the rate of a real run. Arguments: threads, the most size classes the
+//                     list is rebuilt at the rate of a real run, settled for 3,000 steps (untimed). Arguments: threads, the most size classes the
 //                     neighbour search may use (1: one grid, as before), and the skin in pm (0: the engine's
 //                     default, -1: 0.2 r_min, the default before). Items = particle-steps; rebuild_share = the
 //                     neighbour time's share of the step; candidates_per_particle = particles in the stencils
@@ -324,14 +324,17 @@ void BM_Rebuild(benchmark::State& state) {
 #define DEBRIS_SOURCE_DIR "."
 #endif
 
-constexpr double kThermalSpeed = 25.0;     // m/s, rms: the vibration left by carving and shearing
-constexpr long kPolyWarmUpSteps = 200;     // untimed: kinetic and elastic energy share out
+constexpr double kThermalSpeed = 25.0;  // m/s, rms: the vibration left by carving and shearing
+// Untimed steps before any variant is measured. Freed in y, the relaxed sample's faces settle for the first
+// ~1,500 steps: rebuilds come every 15-25 steps at the default skin then, every ~200 after. Each variant
+// starts from the same settled state, so that all are measured in the same regime.
+constexpr long kPolySettleSteps = 3000;
+constexpr long kPolyWarmUpSteps = 50;  // each variant's own, untimed: its tangential springs load again
 
-/// The engine on the junction's sample, one per (size classes, skin) and kept stepping between calls.
-DemSimulation& poly_system(int classes, int skin_pm) {
-  static std::map<std::pair<int, int>, std::unique_ptr<DemSimulation>> cache;
-  auto& slot = cache[{classes, skin_pm}];
-  if (slot) return *slot;
+/// The settled sample: the engine with default settings after kPolySettleSteps from the data file.
+const DemSimulation& poly_settled() {
+  static std::unique_ptr<DemSimulation> sim;
+  if (sim) return *sim;
   const char* env = std::getenv("DEBRIS_POLY_SAMPLE");
   const std::string path = env ? env : std::string(DEBRIS_SOURCE_DIR) + "/bench/data/silica_d0_1.5nm.data";
   LammpsData data = read_lammps_data(path, {true, false, true});
@@ -357,10 +360,23 @@ DemSimulation& poly_system(int classes, int skin_pm) {
   settings.material = silica_material();
   settings.masses_from_density = false;  // the sample's (scaled) masses, as the junction reads them
   settings.time_step_fraction = 0.1;
+  sim = std::make_unique<DemSimulation>(data.box, std::move(p), Groups{}, settings);
+  sim->run(kPolySettleSteps);
+  return *sim;
+}
+
+/// The engine on the settled sample, one per (size classes, skin) and kept stepping between calls.
+DemSimulation& poly_system(int classes, int skin_pm) {
+  static std::map<std::pair<int, int>, std::unique_ptr<DemSimulation>> cache;
+  auto& slot = cache[{classes, skin_pm}];
+  if (slot) return *slot;
+  const DemSimulation& base = poly_settled();
+  DemSettings settings = base.settings();
   settings.size_classes = classes;
   // skin_pm: > 0 in pm, 0 the engine's default, -1 the default before size classes (0.2 r_min).
-  settings.skin = skin_pm >= 0 ? skin_pm * 1e-12 : 0.2 * *std::min_element(p.radius.begin(), p.radius.end());
-  slot = std::make_unique<DemSimulation>(data.box, std::move(p), Groups{}, settings);
+  const std::vector<double>& r = base.particles().radius;
+  settings.skin = skin_pm >= 0 ? skin_pm * 1e-12 : 0.2 * *std::min_element(r.begin(), r.end());
+  slot = std::make_unique<DemSimulation>(base.box(), base.particles(), Groups{}, settings);
   slot->run(kPolyWarmUpSteps);
   return *slot;
 }

@@ -76,10 +76,10 @@ void DemSimulation::setup() {
   // Default skin. Narrow size distributions (one size class of the neighbour search, r_max < 2 r_min)
   // keep 0.2 r_min: a larger skin there adds the second shell of a close-packed solid to the list. Wide
   // ones take 0.25 r_mean: the smallest radius says little about their typical pair. Measured on the wear
-  // junction's silica (size ratio 6.7, r_min = 0.56 nm, r_mean = 1.23 nm, 25 m/s vibration,
-  // BM_StepPolydisperse, 1 thread): 0.2 r_min = 0.11 nm rebuilt every 7 steps (75% of the run, 2.4 M
-  // particle-steps/s); 0.2-0.25 nm every 60-90 (7.8 M); 0.3-0.6 nm every 150-800 (8.8-9.7 M, more list
-  // entries offsetting fewer rebuilds); 0.9 nm 7.4-8.3 M. 0.25 r_mean = 0.31 nm is the low end of that plateau.
+  // junction's silica (size ratio 6.6, r_min = 0.56 nm, r_mean = 1.23 nm, 25 m/s vibration, settled;
+  // BM_StepPolydisperse, 1 thread, M particle-steps/s): 0.2 r_min = 0.11 nm rebuilt every 44 steps (38% of
+  // the run, 7.5 M); 0.15 nm every 70 (8.7 M); 0.2 nm every 96 (9.5 M); 0.25-0.6 nm every 170-590 (10.0-10.2 M:
+  // more list entries offset fewer rebuilds). 0.25 r_mean = 0.31 nm sits at the low end of that plateau.
   double r_sum = 0.0;
   for (double r : p_.radius) r_sum += r;
   const double r_mean = r_sum / static_cast<double>(p_.size());
