@@ -109,7 +109,7 @@ void expect_lists_match(const System& s, const Pairs& ref, Cutoff cutoff, double
   ASSERT_EQ(full.offset().size(), static_cast<std::size_t>(n) + 1);
   EXPECT_EQ(full.kind(), NeighborKind::full);
   EXPECT_EQ(full.skin(), skin);
-  EXPECT_GE(full.candidates(), full.entries());
+  if (!exec::offload_build()) EXPECT_GE(full.candidates(), full.entries());  // counted by host builds only
   Pairs got = listed_pairs(full);
   ASSERT_EQ(got.size(), static_cast<std::size_t>(full.entries()));
   std::sort(got.begin(), got.end());
@@ -227,7 +227,7 @@ TEST(NeighborList, SizeRatioSevenMatchesBruteForce) {
     one.build(s->box.view(), s->p, PolyCutoff{}, kWideMaxCutoff, kSkin, NeighborKind::full);
     classes.build(s->box.view(), s->p, PolyCutoff{}, kWideMaxCutoff, kSkin, NeighborKind::full);
     EXPECT_EQ(classes.size_classes().count, 3);
-    EXPECT_LT(3 * classes.candidates(), one.candidates());
+    if (!exec::offload_build()) EXPECT_LT(3 * classes.candidates(), one.candidates());
   }
   // Unwrapped positions on a periodic axis (up to a quarter box beyond it, the separations the list allows):
   // the image-free shortcut must switch off.
