@@ -13,6 +13,17 @@
 //                     (what a step costs extra when a particle drifted skin/2; this packing is a stable
 //                     crystal and BM_Step reports how often that really happens: rebuilds_per_1k_steps)
 //
+//   BM_StepPolydisperse  DemSimulation::step() on the wear junction's sample: amorphous silica, log-normal
+//                     diameters of mode d0 = 1.5 nm in [1.125, 7.5] nm (size ratio 6.7), 4,000-odd particles
+//                     read from bench/data/silica_d0_1.5nm.data (LAMMPS data, masses from the file), periodic
+//                     in x and z, free in y, Table 5 silica with s = 0.5, dt = 0.1 dt_c, no damping, thermal
+//                     velocities of 25 m/s rms (Gaussian components, seed fixed, no net momentum) so that the
+//                     list is rebuilt at the rate of a real run, settled for 3,000 steps (untimed). Arguments: threads, the most size classes the
+//                     neighbour search may use (1: one grid, as before), and the skin in pm (0: the engine's
+//                     default, -1: 0.2 r_min, the default before). Items = particle-steps; rebuild_share = the
+//                     neighbour time's share of the step; candidates_per_particle = particles in the stencils
+//                     scanned per row at the last rebuild.
+//
 // Arguments: N (particles) and threads (debris::exec::set_threads, OpenMP). Real time throughout: the
 // OpenMP workers' CPU time is not the benchmark thread's. One system per N is built on first use and kept
 // (setup is not timed); BM_Step's simulation keeps stepping from call to call.
@@ -29,6 +40,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <random>
@@ -38,6 +50,7 @@
 #include "core/cell_list.hpp"
 #include "core/contact_history.hpp"
 #include "core/exec.hpp"
+#include "core/io/lammps_data.hpp"
 #include "core/lattice.hpp"
 #include "core/neighbor_list.hpp"
 #include "core/particles.hpp"
@@ -306,6 +319,104 @@ void BM_Rebuild(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * n);
   set_engine_counters(state, s, sim, false);
 }
+
+#ifndef DEBRIS_SOURCE_DIR
+#define DEBRIS_SOURCE_DIR "."
+#endif
+
+constexpr double kThermalSpeed = 25.0;  // m/s, rms: the vibration left by carving and shearing
+// Untimed steps before any variant is measured. Freed in y, the relaxed sample's faces settle for the first
+// ~1,500 steps: rebuilds come every 15-25 steps at the default skin then, every ~200 after. Each variant
+// starts from the same settled state, so that all are measured in the same regime.
+constexpr long kPolySettleSteps = 3000;
+constexpr long kPolyWarmUpSteps = 50;  // each variant's own, untimed: its tangential springs load again
+
+/// The settled sample: the engine with default settings after kPolySettleSteps from the data file.
+const DemSimulation& poly_settled() {
+  static std::unique_ptr<DemSimulation> sim;
+  if (sim) return *sim;
+  const char* env = std::getenv("DEBRIS_POLY_SAMPLE");
+  const std::string path = env ? env : std::string(DEBRIS_SOURCE_DIR) + "/bench/data/silica_d0_1.5nm.data";
+  LammpsData data = read_lammps_data(path, {true, false, true});
+  Particles& p = data.particles;
+  std::mt19937_64 rng(20261201);
+  std::normal_distribution<double> g(0.0, kThermalSpeed / std::sqrt(3.0));
+  double px = 0, py = 0, pz = 0, m = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    p.vx[i] = g(rng);
+    p.vy[i] = g(rng);
+    p.vz[i] = g(rng);
+    px += p.mass[i] * p.vx[i];
+    py += p.mass[i] * p.vy[i];
+    pz += p.mass[i] * p.vz[i];
+    m += p.mass[i];
+  }
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    p.vx[i] -= px / m;
+    p.vy[i] -= py / m;
+    p.vz[i] -= pz / m;
+  }
+  DemSettings settings;
+  settings.material = silica_material();
+  settings.masses_from_density = false;  // the sample's (scaled) masses, as the junction reads them
+  settings.time_step_fraction = 0.1;
+  sim = std::make_unique<DemSimulation>(data.box, std::move(p), Groups{}, settings);
+  sim->run(kPolySettleSteps);
+  return *sim;
+}
+
+/// The engine on the settled sample, one per (size classes, skin) and kept stepping between calls.
+DemSimulation& poly_system(int classes, int skin_pm) {
+  static std::map<std::pair<int, int>, std::unique_ptr<DemSimulation>> cache;
+  auto& slot = cache[{classes, skin_pm}];
+  if (slot) return *slot;
+  const DemSimulation& base = poly_settled();
+  DemSettings settings = base.settings();
+  settings.size_classes = classes;
+  // skin_pm: > 0 in pm, 0 the engine's default, -1 the default before size classes (0.2 r_min).
+  const std::vector<double>& r = base.particles().radius;
+  settings.skin = skin_pm >= 0 ? skin_pm * 1e-12 : 0.2 * *std::min_element(r.begin(), r.end());
+  slot = std::make_unique<DemSimulation>(base.box(), base.particles(), Groups{}, settings);
+  slot->run(kPolyWarmUpSteps);
+  return *slot;
+}
+
+void BM_StepPolydisperse(benchmark::State& state) {
+  exec::set_threads(static_cast<int>(state.range(0)));
+  DemSimulation& sim = poly_system(static_cast<int>(state.range(1)), static_cast<int>(state.range(2)));
+  const int n = static_cast<int>(sim.particles().size());
+  const PassTimes t0 = sim.times();
+  for (auto _ : state) {
+    sim.step();
+  }
+  const PassTimes& t1 = sim.times();
+  const double total = (t1.neighbours - t0.neighbours) + (t1.contact - t0.contact) +
+                       (t1.integration - t0.integration) + (t1.other - t0.other);
+  state.SetItemsProcessed(state.iterations() * n);
+  state.counters["N"] = n;
+  state.counters["rebuilds_per_1k_steps"] =
+      1000.0 * static_cast<double>(t1.rebuilds - t0.rebuilds) / static_cast<double>(state.iterations());
+  state.counters["rebuild_share"] = total > 0 ? (t1.neighbours - t0.neighbours) / total : 0.0;
+  state.counters["candidates_per_particle"] = static_cast<double>(sim.neighbors().candidates()) / n;
+  state.counters["entries_per_particle"] = static_cast<double>(sim.neighbors().entries()) / n;
+  state.counters["size_classes"] = sim.neighbors().size_classes().count;
+  state.counters["skin_nm"] = sim.skin() * 1e9;
+  state.counters["bytes_per_particle"] = sim.bytes_per_particle();
+  if (first_non_finite(sim.particles()) >= 0) state.SkipWithError("the simulation blew up");
+}
+
+// After (size classes, default skin) and before (one grid, skin 0.2 r_min), on 1 and 2 threads; and each
+// change alone on 1 thread.
+BENCHMARK(BM_StepPolydisperse)
+    ->ArgNames({"threads", "classes", "skin_pm"})
+    ->Args({1, SizeClasses::kMax, 0})
+    ->Args({2, SizeClasses::kMax, 0})
+    ->Args({1, 1, -1})
+    ->Args({2, 1, -1})
+    ->Args({1, SizeClasses::kMax, -1})
+    ->Args({1, 1, 0})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 void dem_args(benchmark::internal::Benchmark* b) {
   b->ArgNames({"N", "threads"});

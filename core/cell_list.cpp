@@ -11,18 +11,6 @@ namespace debris {
 
 namespace {
 
-DEBRIS_DECLARE_TARGET
-// Cell coordinate along one axis. Periodic: the periodic image of the coordinate, so an unwrapped
-// particle still lands in the right cell. Otherwise clamped into [0, nc). fmax maps NaN to 0, so bad
-// input can never index outside the grid.
-inline int bin(double x, double lo, double inv_edge, int nc, int periodic) {
-  double t = (x - lo) * inv_edge;
-  if (periodic) t -= nc * std::floor(t / nc);
-  t = std::fmin(std::fmax(t, 0.0), nc - 1.0);
-  return static_cast<int>(t);
-}
-DEBRIS_END_DECLARE_TARGET
-
 long long cells_on_axis(double len, double min_cell_size, bool periodic) {
   // Bounded before the conversion: a huge box over a tiny cell must not overflow.
   const double f = std::min(std::floor(len / min_cell_size), 1e9);
@@ -72,9 +60,9 @@ void CellList::build(const BoxView& box, const double* x, const double* y, const
   const int p0 = box.periodic[0], p1 = box.periodic[1], p2 = box.periodic[2];
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
-    const int cx = bin(px[i], lo0, inv0, n0, p0);
-    const int cy = bin(py[i], lo1, inv1, n1, p1);
-    const int cz = bin(pz[i], lo2, inv2, n2, p2);
+    const int cx = cell_coordinate(px[i], lo0, inv0, n0, p0);
+    const int cy = cell_coordinate(py[i], lo1, inv1, n1, p1);
+    const int cz = cell_coordinate(pz[i], lo2, inv2, n2, p2);
     cell[i] = cx + n0 * (cy + n1 * cz);
   }
 

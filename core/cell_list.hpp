@@ -4,12 +4,27 @@
 // the 27 cells around a particle's cell; sorting particles in memory by cell (Particles::permute with
 // sort_order()) keeps those visits cache-friendly.
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
 #include "core/box.hpp"
+#include "core/exec.hpp"
 
 namespace debris {
+
+DEBRIS_DECLARE_TARGET
+/// Cell coordinate of x along one axis of nc cells of edge 1 / inv_edge from lo. Periodic: the periodic
+/// image of the coordinate, so an unwrapped particle still lands in the right cell. Otherwise clamped into
+/// [0, nc). fmax maps NaN to 0, so bad input can never index outside the grid. Public so that a search can
+/// place a point that is not in the grid (another size class) exactly as build() would.
+inline int cell_coordinate(double x, double lo, double inv_edge, int nc, int periodic) {
+  double t = (x - lo) * inv_edge;
+  if (periodic) t -= nc * std::floor(t / nc);
+  t = std::fmin(std::fmax(t, 0.0), nc - 1.0);
+  return static_cast<int>(t);
+}
+DEBRIS_END_DECLARE_TARGET
 
 class CellList {
  public:
@@ -24,7 +39,7 @@ class CellList {
 
   std::array<int, 3> dims() const { return {dims_[0], dims_[1], dims_[2]}; }
   int cell_count() const { return dims_[0] * dims_[1] * dims_[2]; }
-  /// Edge length of the cells along each axis (len / dims).
+  /// Edge length of the cells along each axis (len / dims); build() bins with 1.0 / cell_edge()[a].
   std::array<double, 3> cell_edge() const { return {edge_[0], edge_[1], edge_[2]}; }
   int particles() const { return n_; }
 

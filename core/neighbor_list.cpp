@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -18,6 +19,75 @@ double NeighborList::max_radius(const Particles& p) {
   DEBRIS_KERNEL_MAX(r_max)
   for (int i = 0; i < n; ++i) r_max = r[i] > r_max ? r[i] : r_max;
   return r_max;
+}
+
+void NeighborList::set_max_size_classes(int classes) {
+  if (classes < 1 || classes > SizeClasses::kMax)
+    throw input_error("neighbor.size_classes", std::to_string(classes),
+                      "must be 1 to " + std::to_string(SizeClasses::kMax));
+  max_classes_ = classes;
+}
+
+void NeighborList::bin_classes(const BoxView& box, const Particles& p, const double* reach) {
+  const int n = static_cast<int>(p.size()), k = classes_.count;
+  // Members of each class in increasing index (a counting sort by class), so that every cell of every grid
+  // lists its particles in increasing index, as the single grid does (the half list relies on it).
+  int first[SizeClasses::kMax + 1] = {};
+  for (int c = 0; c < k; ++c) first[c + 1] = first[c] + classes_.members[c];
+  class_of_.resize(static_cast<std::size_t>(n));
+  members_.resize(static_cast<std::size_t>(n));
+  member_x_.resize(static_cast<std::size_t>(n));
+  member_y_.resize(static_cast<std::size_t>(n));
+  member_z_.resize(static_cast<std::size_t>(n));
+  int fill[SizeClasses::kMax];
+  std::copy(first, first + k, fill);
+  for (int i = 0; i < n; ++i) {
+    const std::size_t ui = static_cast<std::size_t>(i);
+    const int c = classes_.classify(p.radius[ui]);
+    class_of_[ui] = c;
+    const std::size_t at = static_cast<std::size_t>(fill[c]++);
+    members_[at] = i;
+    member_x_[at] = p.x[ui];
+    member_y_[at] = p.y[ui];
+    member_z_[at] = p.z[ui];
+  }
+
+  // Grid (a, c): class c's members in cells at least reach(a, c) wide.
+  class_cells_.resize(static_cast<std::size_t>(k * k));
+  grids_ = ClassGrids{};
+  grids_.classes = k;
+  std::size_t starts = 0, sorted = 0;
+  for (int a = 0; a < k; ++a)
+    for (int c = 0; c < k; ++c) {
+      if (classes_.members[a] == 0 || classes_.members[c] == 0) continue;
+      CellList& cl = class_cells_[static_cast<std::size_t>(a * k + c)];
+      const std::size_t m0 = static_cast<std::size_t>(first[c]);
+      cl.build(box, member_x_.data() + m0, member_y_.data() + m0, member_z_.data() + m0, classes_.members[c],
+               reach[a * k + c]);
+      starts += static_cast<std::size_t>(cl.cell_count()) + 1;
+      sorted += static_cast<std::size_t>(classes_.members[c]);
+    }
+  // All grids in two flat arrays; cell starts index the shared particle array directly.
+  grid_start_.resize(starts);
+  grid_sorted_.resize(sorted);
+  int start_base = 0, sorted_base = 0;
+  for (int a = 0; a < k; ++a)
+    for (int c = 0; c < k; ++c) {
+      if (classes_.members[a] == 0 || classes_.members[c] == 0) continue;
+      const CellList& cl = class_cells_[static_cast<std::size_t>(a * k + c)];
+      ClassGrid& g = grids_.g[a * k + c];
+      const std::array<int, 3> dims = cl.dims();
+      const std::array<double, 3> edge = cl.cell_edge();
+      g.start_base = start_base;
+      g.n0 = dims[0];
+      g.n1 = dims[1];
+      g.n2 = dims[2];
+      for (int d = 0; d < 3; ++d) g.inv_edge[d] = 1.0 / edge[d];  // as CellList::build bins
+      g.reach2 = reach[a * k + c] * reach[a * k + c];
+      for (int v : cl.cell_start()) grid_start_[static_cast<std::size_t>(start_base++)] = v + sorted_base;
+      const int* m = members_.data() + first[c];
+      for (int v : cl.sorted_index()) grid_sorted_[static_cast<std::size_t>(sorted_base++)] = m[v];
+    }
 }
 
 bool NeighborList::inside_periodic_box(const BoxView& box, const Particles& p) {
@@ -133,8 +203,12 @@ bool NeighborList::needs_rebuild(const BoxView& box, const Particles& p) const {
 std::size_t NeighborList::bytes() const {
   std::size_t staged = 0;
   for (const auto& rows : thread_rows_) staged += rows.capacity();
+  std::size_t classes = sizeof(int) * (class_of_.capacity() + members_.capacity() + grid_start_.capacity() +
+                                       grid_sorted_.capacity()) +
+                        sizeof(double) * (member_x_.capacity() + member_y_.capacity() + member_z_.capacity());
+  for (const CellList& cl : class_cells_) classes += cl.bytes();
   return sizeof(int) * (offset_.capacity() + index_.capacity() + staged) +
-         sizeof(double) * (x0_.capacity() + y0_.capacity() + z0_.capacity()) + cells_.bytes();
+         sizeof(double) * (x0_.capacity() + y0_.capacity() + z0_.capacity()) + cells_.bytes() + classes;
 }
 
 }  // namespace debris

@@ -4,6 +4,9 @@
 // prefix sum, fill at offset[i]), so the rows are the same for any thread count and the fill needs no
 // atomics. A pair is listed when its centres are closer than cutoff(r_i, r_j) + skin; the list stays
 // valid until some particle has drifted skin/2 (needs_rebuild).
+// Narrow size distributions use one grid of cells sized for the largest pair; a wide one (largest radius
+// at least twice the smallest) uses size classes (core/size_classes.hpp): a row then lists class 0's
+// neighbours first, then class 1's, and so on, each in stencil then cell order.
 #include <cstddef>
 #include <vector>
 
@@ -12,6 +15,7 @@
 #include "core/exec.hpp"
 #include "core/particles.hpp"
 #include "core/resize_for_overwrite.hpp"
+#include "core/size_classes.hpp"
 #include "core/vec3.hpp"
 
 namespace debris {
@@ -130,6 +134,35 @@ inline int neighbor_row(int i, const Stencil& st, const double* x, const double*
   return neighbor_scan<true>(i, x, y, z, r, cell_start, sorted, n0, n1, st, b, cutoff, skin, reach2, half, out);
 }
 
+/// The stencil, in grid g, of the cell that holds the point (px, py, pz): the cell build() would bin it in.
+inline Stencil point_stencil(double px, double py, double pz, const ClassGrid& g, const BoxView& b) {
+  Stencil st;
+  st.cx = cell_coordinate(px, b.lo[0], g.inv_edge[0], g.n0, b.periodic[0]);
+  st.cy = cell_coordinate(py, b.lo[1], g.inv_edge[1], g.n1, b.periodic[1]);
+  st.cz = cell_coordinate(pz, b.lo[2], g.inv_edge[2], g.n2, b.periodic[2]);
+  st.nsx = neighbor_stencil(st.cx, g.n0, b.periodic[0], st.sx);
+  st.nsy = neighbor_stencil(st.cy, g.n1, b.periodic[1], st.sy);
+  st.nsz = neighbor_stencil(st.cz, g.n2, b.periodic[2], st.sz);
+  return st;
+}
+
+/// neighbor_row for particle i of class a in a size-class search: each class's grid (a, c) in turn, with
+/// the reach of the largest (a, c) pair, written one after the other.
+template <class Cutoff>
+inline int neighbor_row_classes(int i, int a, const ClassGrids& G, const double* x, const double* y,
+                                const double* z, const double* r, const int* start_all, const int* sorted_all,
+                                const BoxView& b, Cutoff cutoff, double skin, int half, int wrapped, int* out) {
+  int count = 0;
+  for (int c = 0; c < G.classes; ++c) {
+    const ClassGrid& g = G.g[a * G.classes + c];
+    if (g.n0 == 0) continue;
+    const Stencil st = point_stencil(x[i], y[i], z[i], g, b);
+    count += neighbor_row(i, st, x, y, z, r, start_all + g.start_base, sorted_all, g.n0, g.n1, g.n2, b, cutoff,
+                          skin, g.reach2, half, wrapped, out ? out + count : nullptr);
+  }
+  return count;
+}
+
 DEBRIS_END_DECLARE_TARGET
 
 class NeighborList {
@@ -162,6 +195,13 @@ class NeighborList {
   Saved save() const;
   void restore(Saved s);
 
+  /// At most this many size classes (1 to SizeClasses::kMax; 1: always one grid). Takes effect at the next build.
+  void set_max_size_classes(int classes);
+  /// The classes of the last build (count 1: one grid, cells()).
+  const SizeClasses& size_classes() const { return classes_; }
+  /// Particles in the stencils scanned by the last build, summed over rows (host builds; 0 in offload builds).
+  long long candidates() const { return candidates_; }
+
   /// True when every coordinate on a periodic axis lies in [lo, lo + len] (as after Box::wrap).
   static bool inside_periodic_box(const BoxView& box, const Particles& p);
   int rows() const { return rows_; }
@@ -170,8 +210,9 @@ class NeighborList {
   int entries() const { return offset_.empty() ? 0 : offset_.back(); }
   NeighborKind kind() const { return kind_; }
   double skin() const { return skin_; }
+  /// The single grid (size_classes().count == 1); with size classes it is not built.
   const CellList& cells() const { return cells_; }
-  std::size_t bytes() const;  // memory held, cell list included
+  std::size_t bytes() const;  // memory held, cell lists included
 
  private:
   // Non-template parts of build, in neighbor_list.cpp.
@@ -179,8 +220,27 @@ class NeighborList {
   int prefix_sum();  // offset_[1..n] holds row counts on entry, the exclusive prefix sum on exit; returns the total
   void record(const BoxView& box, const Particles& p, double skin, NeighborKind kind);
   static double max_radius(const Particles& p);
+  // Size classes: bins each class's members into its grids, given reach[a * count + b] for each class pair;
+  // fills grids_ (kernel view), grid_start_ and grid_sorted_.
+  void bin_classes(const BoxView& box, const Particles& p, const double* reach);
+  // Host threads: offset_ and index_ from row_fn(i, room), which returns row i's length after writing it to
+  // room(bound), a buffer for at most `bound` entries.
+  template <class RowFn>
+  void fill_rows_host(int n, RowFn row_fn);
 
   CellList cells_;
+  // Size classes (used when classes_.count > 1): class of each particle, members of each class (ascending,
+  // class after class) and their coordinates, one cell list per class pair, and all grids' cell starts and
+  // particle indices, concatenated so that a kernel sees two flat arrays.
+  int max_classes_ = SizeClasses::kMax;
+  SizeClasses classes_;
+  ClassGrids grids_;
+  std::vector<int> class_of_, members_;
+  std::vector<double> member_x_, member_y_, member_z_;
+  std::vector<CellList> class_cells_;
+  std::vector<int> grid_start_, grid_sorted_;
+  std::vector<long long> thread_candidates_;
+  long long candidates_ = 0;
   std::vector<int> offset_;
   std::vector<int> index_;
   std::vector<std::vector<int>> thread_rows_;  // host build: each thread's rows, kept between builds
@@ -192,29 +252,124 @@ class NeighborList {
   double skin_ = 0;
 };
 
+template <class RowFn>
+void NeighborList::fill_rows_host(int n, RowFn row_fn) {
+  // One scan. Each thread takes a contiguous run of rows and appends them to its own buffer (with room for
+  // all of a row's candidates), then the runs are copied into place: the same rows as two scans (count,
+  // then fill), at about half the cost.
+  thread_rows_.resize(static_cast<std::size_t>(exec::threads()));
+  thread_candidates_.assign(thread_rows_.size(), 0);
+  int* __restrict off = offset_.data();
+  int team_used = 1;
+  // Thread t of a team of `team` takes rows [first_row(t, team), first_row(t + 1, team)).
+  auto first_row = [n](int t, int team) { return static_cast<int>(static_cast<long long>(n) * t / team); };
+  DEBRIS_HOST_PARALLEL {
+    const int team = exec::team_size(), rank = exec::team_rank();
+    if (rank == 0) team_used = team;
+    std::vector<int>& buf = thread_rows_[static_cast<std::size_t>(rank)];
+    buf.clear();
+    long long scanned = 0;
+    std::size_t at = 0;
+    // The row function calls this with its candidate count before it writes the row.
+    auto room = [&](int candidates) {
+      scanned += candidates;
+      const std::size_t need = at + static_cast<std::size_t>(candidates);
+      if (buf.capacity() < need) buf.reserve(2 * need);
+      buf.resize(need);
+      return buf.data() + at;
+    };
+    for (int i = first_row(rank, team); i < first_row(rank + 1, team); ++i) {
+      at = buf.size();
+      off[i + 1] = row_fn(i, room);
+      buf.resize(at + static_cast<std::size_t>(off[i + 1]));
+    }
+    thread_candidates_[static_cast<std::size_t>(rank)] = scanned;
+  }
+  resize_for_overwrite(index_, static_cast<std::size_t>(prefix_sum()));
+  candidates_ = 0;
+  for (int t = 0; t < team_used; ++t) {
+    const std::vector<int>& buf = thread_rows_[static_cast<std::size_t>(t)];
+    std::copy(buf.begin(), buf.end(), index_.begin() + off[first_row(t, team_used)]);
+    candidates_ += thread_candidates_[static_cast<std::size_t>(t)];
+  }
+}
+
 template <class Cutoff>
 void NeighborList::build(const BoxView& box, const Particles& p, Cutoff cutoff, double max_cutoff, double skin,
                          NeighborKind kind) {
   const double r_max = max_radius(p);
   check(box, p, max_cutoff, skin, p.size() > 0 ? cutoff(r_max, r_max) : 0.0);
   const int n = static_cast<int>(p.size());
-  cells_.build(box, p.x.data(), p.y.data(), p.z.data(), n, max_cutoff + skin);
   offset_.resize(static_cast<std::size_t>(n) + 1);
+  classes_ = SizeClasses::of(p.radius.data(), n, max_classes_);
 
   const double* __restrict x = p.x.data();
   const double* __restrict y = p.y.data();
   const double* __restrict z = p.z.data();
   const double* __restrict r = p.radius.data();
+  const BoxView b = box;
+  const int half = kind == NeighborKind::half ? 1 : 0;
+  const int wrapped = inside_periodic_box(box, p) ? 1 : 0;
+  int* __restrict off = offset_.data();
+  (void)off;
+
+  if (classes_.count > 1) {
+    // Reach of each class pair: the cutoff grows with both radii, so the largest pair bounds it. The margin
+    // keeps a pair whose cutoff rounds a hair above the bound from falling outside the grid's stencil.
+    const int k = classes_.count;
+    double reach[SizeClasses::kMax * SizeClasses::kMax];
+    for (int a = 0; a < k; ++a)
+      for (int c = 0; c < k; ++c)
+        reach[a * k + c] = (cutoff(classes_.r_max[a], classes_.r_max[c]) + skin) * (1.0 + 1e-12);
+    bin_classes(box, p, reach);
+    const ClassGrids grids = grids_;
+    const int* __restrict cls = class_of_.data();
+    const int* __restrict start_all = grid_start_.data();
+    const int* __restrict sorted_all = grid_sorted_.data();
+#if defined(DEBRIS_OFFLOAD_NVPTX)
+    DEBRIS_KERNEL
+    for (int i = 0; i < n; ++i)
+      off[i + 1] = neighbor_row_classes(i, cls[i], grids, x, y, z, r, start_all, sorted_all, b, cutoff, skin, half,
+                                        wrapped, nullptr);
+    resize_for_overwrite(index_, static_cast<std::size_t>(prefix_sum()));
+    int* __restrict idx = index_.data();
+    DEBRIS_KERNEL
+    for (int i = 0; i < n; ++i)
+      neighbor_row_classes(i, cls[i], grids, x, y, z, r, start_all, sorted_all, b, cutoff, skin, half, wrapped,
+                           idx + off[i]);
+    candidates_ = 0;
+#else
+    // As neighbor_row_classes, with each class's stencil placed once for the room and the scan.
+    fill_rows_host(n, [&](int i, auto& room) {
+      const ClassGrid* g = grids.g + cls[i] * k;
+      Stencil st[SizeClasses::kMax];
+      int candidates = 0;
+      for (int c = 0; c < k; ++c) {
+        if (g[c].n0 == 0) continue;
+        st[c] = point_stencil(x[i], y[i], z[i], g[c], b);
+        candidates += stencil_candidates(st[c], start_all + g[c].start_base, g[c].n0, g[c].n1);
+      }
+      int* out = room(candidates);
+      int count = 0;
+      for (int c = 0; c < k; ++c) {
+        if (g[c].n0 == 0) continue;
+        count += neighbor_row(i, st[c], x, y, z, r, start_all + g[c].start_base, sorted_all, g[c].n0, g[c].n1,
+                              g[c].n2, b, cutoff, skin, g[c].reach2, half, wrapped, out + count);
+      }
+      return count;
+    });
+#endif
+    record(box, p, skin, kind);
+    return;
+  }
+
+  cells_.build(box, x, y, z, n, max_cutoff + skin);
   const int* __restrict cell_of = cells_.cell_of().data();
   const int* __restrict cell_start = cells_.cell_start().data();
   const int* __restrict sorted = cells_.sorted_index().data();
   const std::array<int, 3> dims = cells_.dims();
   const int n0 = dims[0], n1 = dims[1], n2 = dims[2];
-  const BoxView b = box;
-  const int half = kind == NeighborKind::half ? 1 : 0;
   const double reach2 = (max_cutoff + skin) * (max_cutoff + skin);
-  const int wrapped = inside_periodic_box(box, p) ? 1 : 0;
-  int* __restrict off = offset_.data();
 
 #if defined(DEBRIS_OFFLOAD_NVPTX)
   // Device: count the rows, place them, scan again to fill.
@@ -232,35 +387,13 @@ void NeighborList::build(const BoxView& box, const Particles& p, Cutoff cutoff, 
     neighbor_row(i, st, x, y, z, r, cell_start, sorted, n0, n1, n2, b, cutoff, skin, reach2, half, wrapped,
                  idx + off[i]);
   }
+  candidates_ = 0;
 #else
-  // Host threads: one scan. Each thread takes a contiguous run of rows and appends them to its own buffer
-  // (with room for all of a row's candidates), then the runs are copied into place: the same rows as two
-  // scans, at about half the cost.
-  thread_rows_.resize(static_cast<std::size_t>(exec::threads()));
-  int team_used = 1;
-  // Thread t of a team of `team` takes rows [first_row(t, team), first_row(t + 1, team)).
-  auto first_row = [n](int t, int team) { return static_cast<int>(static_cast<long long>(n) * t / team); };
-  DEBRIS_HOST_PARALLEL {
-    const int team = exec::team_size(), rank = exec::team_rank();
-    if (rank == 0) team_used = team;
-    std::vector<int>& buf = thread_rows_[static_cast<std::size_t>(rank)];
-    buf.clear();
-    for (int i = first_row(rank, team); i < first_row(rank + 1, team); ++i) {
-      const Stencil st = cell_stencil(cell_of[i], n0, n1, n2, b.periodic);
-      const std::size_t at = buf.size();
-      const std::size_t room = at + static_cast<std::size_t>(stencil_candidates(st, cell_start, n0, n1));
-      if (buf.capacity() < room) buf.reserve(2 * room);
-      buf.resize(room);
-      off[i + 1] = neighbor_row(i, st, x, y, z, r, cell_start, sorted, n0, n1, n2, b, cutoff, skin, reach2, half,
-                                 wrapped, buf.data() + at);
-      buf.resize(at + static_cast<std::size_t>(off[i + 1]));
-    }
-  }
-  resize_for_overwrite(index_, static_cast<std::size_t>(prefix_sum()));
-  for (int t = 0; t < team_used; ++t) {
-    const std::vector<int>& buf = thread_rows_[static_cast<std::size_t>(t)];
-    std::copy(buf.begin(), buf.end(), index_.begin() + off[first_row(t, team_used)]);
-  }
+  fill_rows_host(n, [&](int i, auto& room) {
+    const Stencil st = cell_stencil(cell_of[i], n0, n1, n2, b.periodic);
+    return neighbor_row(i, st, x, y, z, r, cell_start, sorted, n0, n1, n2, b, cutoff, skin, reach2, half, wrapped,
+                        room(stencil_candidates(st, cell_start, n0, n1)));
+  });
 #endif
   record(box, p, skin, kind);
 }

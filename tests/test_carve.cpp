@@ -272,7 +272,9 @@ class CarveCliBad : public ::testing::Test {
  protected:
   // Exit 2, every piece of `mention` in the message, and no output directory made.
   void expect_rejected(const std::string& from, const std::string& to, const std::vector<std::string>& mention) {
-    const fs::path d = test::fresh_directory("debris_carve_bad");
+    // One directory per test: ctest -j runs these tests in parallel processes.
+    const fs::path d = test::fresh_directory(std::string("debris_carve_bad_") +
+                                             ::testing::UnitTest::GetInstance()->current_test_info()->name());
     const fs::path out = d / "out";
     const std::string yaml = replace(carved_input(out.string()), from, to);
     const test::CommandResult r = run_dem("-i " + test::write_text_file(d, "bad.yaml", yaml));

@@ -18,7 +18,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-DemSimulation sheared_system(PairPass pass) {
+// wide: every third free particle shrunk to d = 45 (size ratio 2.3), so the neighbour search uses size
+// classes and the default skin follows the mean radius.
+DemSimulation sheared_system(PairPass pass, bool wide = false) {
   LatticeSpec l;
   l.kind = LatticeKind::hcp;
   l.spacing = 100;
@@ -42,13 +44,14 @@ DemSimulation sheared_system(PairPass pass) {
     if (p.y[i] > box.hi().y - 90) p.group[i] = gt;
     else if (p.y[i] < box.lo().y + 90) p.group[i] = gb;
     else if (p.x[i] < 200) p.group[i] = gp;
+    if (wide && p.group[i] < 0 && i % 3 == 0) p.radius[i] = 22.5;
   }
   DemSettings s;
   s.material = table4_material();
   s.material.restitution = 0.9;
   s.time_step_fraction = 0.1;
   s.global_damping = 0.02;
-  s.skin = 0.5;  // small: many rebuilds on both sides of the checkpoint
+  s.skin = wide ? 0.0 : 0.5;  // small: many rebuilds on both sides of the checkpoint
   s.pair_pass = pass;
   return DemSimulation(box, p, g, s);
 }
@@ -80,15 +83,17 @@ void expect_identical(DemSimulation& a, DemSimulation& b) {
   }
 }
 
-void expect_restart_bit_for_bit(PairPass pass) {
+void expect_restart_bit_for_bit(PairPass pass, bool wide = false) {
   const long n = 300;
-  DemSimulation straight = sheared_system(pass);
+  DemSimulation straight = sheared_system(pass, wide);
   straight.run(2 * n);
-  DemSimulation first = sheared_system(pass);
+  if (wide) EXPECT_GT(straight.neighbors().size_classes().count, 1);
+  DemSimulation first = sheared_system(pass, wide);
   first.run(n);
   // One file per test: ctest -j runs the two passes' tests in parallel processes.
   const fs::path ckpt = fs::path(::testing::TempDir()) /
-                        ("debris_restart_" + std::string(pass == PairPass::half ? "half" : "full") + ".h5");
+                        ("debris_restart_" + std::string(pass == PairPass::half ? "half" : "full") +
+                         (wide ? "_wide" : "") + ".h5");
   first.write_checkpoint(ckpt.string(), "run: {steps: 600}\n");
   std::string echo;
   DemSimulation resumed = DemSimulation::from_checkpoint(ckpt.string(), &echo);
@@ -103,6 +108,7 @@ void expect_restart_bit_for_bit(PairPass pass) {
 
 TEST(DemRestart, BitForBitHalfListPass) { expect_restart_bit_for_bit(PairPass::half); }
 TEST(DemRestart, BitForBitFullListPass) { expect_restart_bit_for_bit(PairPass::full); }
+TEST(DemRestart, BitForBitWithSizeClasses) { expect_restart_bit_for_bit(PairPass::half, true); }
 
 TEST(DemRestart, MissingCheckpointIsAnInputError) {
   try {

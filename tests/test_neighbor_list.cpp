@@ -1,6 +1,6 @@
 // NeighborList against a brute-force all-pairs search with minimum image, for random polydisperse systems
-// with per-pair cutoffs, in periodic, non-periodic and mixed boxes; Verlet rebuild criterion; independence
-// of the thread count.
+// with per-pair cutoffs, in periodic, non-periodic and mixed boxes, with one grid and with size classes
+// (size ratios 3 and 7); Verlet rebuild criterion; independence of the thread count.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -52,6 +52,22 @@ System random_system(int n, Vec3 lo, Vec3 len, std::array<bool, 3> periodic, std
   return s;
 }
 
+// n particles with radii from 0.3 to 2.0 (ratio 6.7), most of them small as in a log-normal sample:
+// r = 0.3 * 6.7^(u^2). Positions as in random_system (10% outside the box on non-periodic axes).
+constexpr double kWideMaxCutoff = 1.3 * 4.0;
+System wide_system(int n, Vec3 lo, Vec3 len, std::array<bool, 3> periodic, std::uint64_t seed) {
+  System s = random_system(n, lo, len, periodic, seed);
+  std::mt19937_64 rng(seed + 1000);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (std::size_t i = 0; i < s.p.size(); ++i) {
+    const double t = u(rng);
+    s.p.radius[i] = std::min(2.0, 0.3 * std::pow(2.0 / 0.3, t * t));
+  }
+  s.p.radius[0] = 0.3;  // both ends of the range present
+  s.p.radius[1] = 2.0;
+  return s;
+}
+
 using Pairs = std::vector<std::pair<int, int>>;
 
 // All ordered pairs (i, j), i != j, within cutoff + skin: the reference.
@@ -78,19 +94,22 @@ Pairs listed_pairs(const NeighborList& nl) {
   return out;
 }
 
+// Full and half lists against the brute force, with at most max_classes size classes.
 template <class Cutoff>
-void expect_matches_brute_force(const System& s, Cutoff cutoff, double max_cutoff, double skin) {
+void expect_lists_match(const System& s, const Pairs& ref, Cutoff cutoff, double max_cutoff, double skin,
+                        int max_classes) {
+  SCOPED_TRACE("at most " + std::to_string(max_classes) + " size classes");
   const BoxView b = s.box.view();
   const int n = static_cast<int>(s.p.size());
-  const Pairs ref = brute_force(s, cutoff, skin);
-  ASSERT_GT(ref.size(), static_cast<std::size_t>(2 * n)) << "the test system should have neighbours";
-
   NeighborList full;
+  full.set_max_size_classes(max_classes);
   full.build(b, s.p, cutoff, max_cutoff, skin, NeighborKind::full);
+  EXPECT_LE(full.size_classes().count, max_classes);
   ASSERT_EQ(full.rows(), n);
   ASSERT_EQ(full.offset().size(), static_cast<std::size_t>(n) + 1);
   EXPECT_EQ(full.kind(), NeighborKind::full);
   EXPECT_EQ(full.skin(), skin);
+  if (!exec::offload_build()) EXPECT_GE(full.candidates(), full.entries());  // counted by host builds only
   Pairs got = listed_pairs(full);
   ASSERT_EQ(got.size(), static_cast<std::size_t>(full.entries()));
   std::sort(got.begin(), got.end());
@@ -99,6 +118,7 @@ void expect_matches_brute_force(const System& s, Cutoff cutoff, double max_cutof
   for (const auto& [i, j] : got) EXPECT_TRUE(std::binary_search(got.begin(), got.end(), std::make_pair(j, i)));
 
   NeighborList half;
+  half.set_max_size_classes(max_classes);
   half.build(b, s.p, cutoff, max_cutoff, skin, NeighborKind::half);
   EXPECT_EQ(half.kind(), NeighborKind::half);
   EXPECT_EQ(2 * half.entries(), full.entries());
@@ -111,6 +131,15 @@ void expect_matches_brute_force(const System& s, Cutoff cutoff, double max_cutof
     if (i < j) ref_half.emplace_back(i, j);
   EXPECT_EQ(got_half, ref_half);
   EXPECT_GE(full.bytes(), sizeof(int) * (full.offset().size() + full.index().size()) + 3 * sizeof(double) * n);
+}
+
+// One grid, and as many size classes as the radii call for (and two, where that is fewer).
+template <class Cutoff>
+void expect_matches_brute_force(const System& s, Cutoff cutoff, double max_cutoff, double skin) {
+  const int n = static_cast<int>(s.p.size());
+  const Pairs ref = brute_force(s, cutoff, skin);
+  ASSERT_GT(ref.size(), static_cast<std::size_t>(2 * n)) << "the test system should have neighbours";
+  for (int classes : {1, 2, SizeClasses::kMax}) expect_lists_match(s, ref, cutoff, max_cutoff, skin, classes);
 }
 
 TEST(NeighborList, PeriodicBoxMatchesBruteForce) {
@@ -145,6 +174,7 @@ TEST(NeighborList, MixedBoxMatchesBruteForce) {
   // y non-periodic with only 2 cells, x and z periodic.
   const System s = random_system(2000, {0, -1, 0}, {40, 10, 45}, {true, false, true}, 13);
   NeighborList nl;
+  nl.set_max_size_classes(1);
   nl.build(s.box.view(), s.p, PolyCutoff{}, kMaxCutoff, kSkin, NeighborKind::full);
   EXPECT_EQ(nl.cells().dims()[1], 2);
   expect_matches_brute_force(s, PolyCutoff{}, kMaxCutoff, kSkin);
@@ -154,6 +184,7 @@ TEST(NeighborList, SmallPeriodicBoxesWithOneAndThreeCellsPerAxis) {
   // x: 9 / 4.2 -> 2 cells -> 1 cell; y: 3 cells, every stencil wraps; z: 7 cells.
   const System s = random_system(400, {0, 0, 0}, {9.0, 13.0, 30.0}, {true, true, true}, 14);
   NeighborList nl;
+  nl.set_max_size_classes(1);
   nl.build(s.box.view(), s.p, PolyCutoff{}, kMaxCutoff, kSkin, NeighborKind::full);
   EXPECT_EQ(nl.cells().dims(), (std::array<int, 3>{1, 3, 7}));
   expect_matches_brute_force(s, PolyCutoff{}, kMaxCutoff, kSkin);
@@ -180,6 +211,61 @@ TEST(NeighborList, CohesiveCutoffMatchesBruteForce) {
   const double max_cutoff = cutoff(1.5 * scale, 1.5 * scale);
   const System s = random_system(1000, {0, 0, 0}, Vec3{18, 18, 18} * scale, {true, false, true}, 16, scale);
   expect_matches_brute_force(s, cutoff, max_cutoff, 0.1 * scale);
+}
+
+// Size ratio 6.7 (as the silica samples of the wear junction): three size classes, every pair found in
+// periodic, non-periodic and mixed boxes, with particles outside the box, and far fewer candidates scanned
+// than with one grid sized for the largest pair.
+TEST(NeighborList, SizeRatioSevenMatchesBruteForce) {
+  const System per = wide_system(5000, {-3, 0, 5}, {30, 28, 32}, {true, true, true}, 71);
+  const System non = wide_system(5000, {0, 0, 0}, {30, 28, 32}, {false, false, false}, 72);
+  const System mix = wide_system(5000, {0, -1, 0}, {36, 14, 36}, {true, false, true}, 73);
+  for (const System* s : {&per, &non, &mix}) {
+    expect_matches_brute_force(*s, PolyCutoff{}, kWideMaxCutoff, kSkin);
+    NeighborList one, classes;
+    one.set_max_size_classes(1);
+    one.build(s->box.view(), s->p, PolyCutoff{}, kWideMaxCutoff, kSkin, NeighborKind::full);
+    classes.build(s->box.view(), s->p, PolyCutoff{}, kWideMaxCutoff, kSkin, NeighborKind::full);
+    EXPECT_EQ(classes.size_classes().count, 3);
+    if (!exec::offload_build()) EXPECT_LT(3 * classes.candidates(), one.candidates());
+  }
+  // Unwrapped positions on a periodic axis (up to a quarter box beyond it, the separations the list allows):
+  // the image-free shortcut must switch off.
+  System out = per;
+  for (std::size_t i = 0; i < out.p.size(); ++i)
+    if (out.p.z[i] < 5 + 0.25 * 32) out.p.z[i] += 32;
+  EXPECT_FALSE(NeighborList::inside_periodic_box(out.box.view(), out.p));
+  expect_matches_brute_force(out, PolyCutoff{}, kWideMaxCutoff, kSkin);
+}
+
+// The cohesive cutoff (eq 10, both branches) over a size ratio of 7, in the junction's boundaries.
+TEST(NeighborList, CohesiveCutoffSizeRatioSevenMatchesBruteForce) {
+  const CohesiveCutoff cutoff{CohesiveCoefficients::from(silica_material())};
+  const double scale = 1e-9;
+  System s = wide_system(4000, {0, 0, 0}, Vec3{24, 20, 24} * scale, {true, false, true}, 74);
+  for (std::size_t i = 0; i < s.p.size(); ++i) {
+    s.p.x[i] *= scale;
+    s.p.y[i] *= scale;
+    s.p.z[i] *= scale;
+    s.p.radius[i] *= scale;
+  }
+  const double max_cutoff = cutoff(2.0 * scale, 2.0 * scale);
+  expect_matches_brute_force(s, cutoff, max_cutoff, 0.05 * scale);
+}
+
+TEST(NeighborList, SizeClassesAreInputChecked) {
+  NeighborList nl;
+  EXPECT_THROW(nl.set_max_size_classes(0), InputError);
+  EXPECT_THROW(nl.set_max_size_classes(SizeClasses::kMax + 1), InputError);
+  const double r[] = {1.0, 1.9, 2.0, 3.9, 4.0, 100.0};
+  const SizeClasses c = SizeClasses::of(r, 6, SizeClasses::kMax);
+  EXPECT_EQ(c.count, SizeClasses::kMax);
+  EXPECT_EQ(c.members[0], 2);
+  EXPECT_EQ(c.members[1], 2);
+  EXPECT_EQ(c.members[2], 1);
+  EXPECT_EQ(c.members[3], 1);  // the last class is open above
+  EXPECT_EQ(c.r_max[3], 100.0);
+  EXPECT_EQ(SizeClasses::of(r, 2, SizeClasses::kMax).count, 1);  // 1.9 / 1.0 < 2: one grid
 }
 
 TEST(NeighborList, RebuildOnlyAfterMovingMoreThanHalfTheSkin) {
@@ -230,17 +316,23 @@ TEST(NeighborList, RebuildOnlyAfterMovingMoreThanHalfTheSkin) {
 
 TEST(NeighborList, SameRowsWithOneAndTwoThreads) {
   const System s = random_system(2000, {0, -1, 0}, {30, 12, 30}, {true, false, true}, 31);
+  const System w = wide_system(4000, {0, -1, 0}, {30, 14, 30}, {true, false, true}, 32);
   const int before = exec::threads();
-  for (NeighborKind kind : {NeighborKind::full, NeighborKind::half}) {
-    NeighborList one, two;
-    exec::set_threads(1);
-    one.build(s.box.view(), s.p, PolyCutoff{}, kMaxCutoff, kSkin, kind);
-    exec::set_threads(2);
-    two.build(s.box.view(), s.p, PolyCutoff{}, kMaxCutoff, kSkin, kind);
-    EXPECT_GT(one.entries(), 0);
-    EXPECT_EQ(one.offset(), two.offset());
-    EXPECT_EQ(one.index(), two.index());
-  }
+  for (const auto& [sys, max_cutoff] : {std::make_pair(&s, kMaxCutoff), std::make_pair(&w, kWideMaxCutoff)})
+    for (int classes : {1, SizeClasses::kMax})
+      for (NeighborKind kind : {NeighborKind::full, NeighborKind::half}) {
+        NeighborList one, two;
+        one.set_max_size_classes(classes);
+        two.set_max_size_classes(classes);
+        exec::set_threads(1);
+        one.build(sys->box.view(), sys->p, PolyCutoff{}, max_cutoff, kSkin, kind);
+        exec::set_threads(2);
+        two.build(sys->box.view(), sys->p, PolyCutoff{}, max_cutoff, kSkin, kind);
+        EXPECT_GT(one.entries(), 0);
+        EXPECT_EQ(one.offset(), two.offset());
+        EXPECT_EQ(one.index(), two.index());
+        EXPECT_EQ(one.candidates(), two.candidates());
+      }
   exec::set_threads(before);
 }
 
@@ -248,6 +340,8 @@ TEST(NeighborList, RowsFollowStencilThenCellOrder) {
   // Rebuilding from the same input gives the same arrays; within one stencil cell, ascending indices.
   const System s = random_system(800, {0, 0, 0}, {20, 20, 20}, {true, true, true}, 41);
   NeighborList a, b;
+  a.set_max_size_classes(1);
+  b.set_max_size_classes(1);
   a.build(s.box.view(), s.p, PolyCutoff{}, kMaxCutoff, kSkin, NeighborKind::full);
   b.build(s.box.view(), s.p, PolyCutoff{}, kMaxCutoff, kSkin, NeighborKind::full);
   EXPECT_EQ(a.index(), b.index());

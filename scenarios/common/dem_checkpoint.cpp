@@ -66,7 +66,8 @@ void DemSimulation::write_checkpoint(const std::string& path, const std::string&
                                                  settings_.global_damping, settings_.skin});
       set.write("flags", std::vector<std::int32_t>{settings_.allow_unstable_time_step, settings_.sort_by_cell,
                                                    settings_.masses_from_density,
-                                                   static_cast<std::int32_t>(settings_.pair_pass)});
+                                                   static_cast<std::int32_t>(settings_.pair_pass),
+                                                   settings_.size_classes});
     }
     {
       h5::Group box = f.create_group("box");
@@ -164,6 +165,9 @@ DemSimulation DemSimulation::from_checkpoint(const std::string& path, std::strin
   sim.settings_.sort_by_cell = flags[1] != 0;
   sim.settings_.masses_from_density = flags[2] != 0;
   sim.settings_.pair_pass = static_cast<PairPass>(flags[3]);
+  // Checkpoints from before size classes have four flags: they continue with the default.
+  if (flags.size() > 4) sim.settings_.size_classes = flags[4];
+  sim.list_.set_max_size_classes(sim.settings_.size_classes);
 
   const h5::Group state = f.open_group("state");
   sim.step_ = state.read_scalar<std::int64_t>("step");

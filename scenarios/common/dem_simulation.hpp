@@ -35,8 +35,9 @@ struct DemSettings {
   double time_step_fraction = 0.1;
   bool allow_unstable_time_step = false;  // the user insists on a step above the critical one
   double global_damping = 0.0;            // fraction of the critical damping c_c of eq 21
-  double skin = 0.0;                      // Verlet skin; 0 = 10% of the smallest diameter
+  double skin = 0.0;                      // Verlet skin; 0 = 0.2 r_min, or 0.25 r_mean if r_max >= 2 r_min
   bool sort_by_cell = true;               // re-sort particles in memory at each rebuild (ids are kept)
+  int size_classes = SizeClasses::kMax;   // neighbour search: at most this many size classes (1: one grid)
   bool masses_from_density = true;        // set m = rho 4/3 pi r^3 at set-up (false: keep the given masses)
   PairPass pair_pass = PairPass::automatic;  // automatic: half on host builds, full in offload builds
 };

@@ -29,8 +29,11 @@ std::string fmt(double v) {
   return os.str();
 }
 
-// Skin the engine picks by default (DemSettings::skin = 0): 0.2 r_min = 0.1 d for equal spheres.
-double default_skin(double d_min_particle) { return 0.1 * d_min_particle; }
+// Skin the engine picks by default (DemSettings::skin = 0): 0.2 r_min = 0.1 d_min, or 0.25 r_mean where
+// d_max >= 2 d_min (DemSimulation::setup).
+double default_skin(double d_min, double d_mean, double d_max) {
+  return d_max >= 2 * d_min ? 0.125 * d_mean : 0.1 * d_min;
+}
 
 // Splits the particles into bottom wall (y < lo + t), top wall (y >= hi - t) and the deformable part, and
 // fills the geometry of the sample. `key` names the input key for errors.
@@ -114,7 +117,7 @@ PatchSample make_hcp_sample(const HcpSampleSpec& spec, const CohesiveMaterial& m
   const Vec3 period = lattice_period(lat);
   // A periodic axis must hold 2 (cutoff + skin) (core/neighbor_list): the widest pair reach of the engine.
   const CohesiveCoefficients coef = CohesiveCoefficients::from(material);
-  const double reach = CohesiveCutoff{coef}(0.5 * d0, 0.5 * d0) + default_skin(d0);
+  const double reach = CohesiveCutoff{coef}(0.5 * d0, 0.5 * d0) + default_skin(d0, d0, d0);
   const double want[3] = {spec.length * d0, spec.length * d0, spec.thickness * d0};
   std::ostringstream note;
   for (int a = 0; a < 3; ++a) {
@@ -175,7 +178,8 @@ PatchSample make_walled_sample(const Box& box, Particles particles, double wall_
                           " (eq 19) of the material");
   // The engine needs each periodic axis to hold 2 (cutoff + skin) of its widest pair (core/neighbor_list).
   const double r_max = *std::max_element(particles.radius.begin(), particles.radius.end());
-  const double reach = CohesiveCutoff{CohesiveCoefficients::from(material)}(r_max, r_max) + default_skin(d_small);
+  const double reach = CohesiveCutoff{CohesiveCoefficients::from(material)}(r_max, r_max) +
+                       default_skin(d_small, d_sum / static_cast<double>(particles.size()), 2 * r_max);
   for (int a : {0, 2})
     if (box.length(a) < 2 * reach)
       throw input_error(key, description,
