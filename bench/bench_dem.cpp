@@ -15,7 +15,7 @@
 //
 //   BM_StepPolydisperse  DemSimulation::step() on the wear junction's sample: amorphous silica, log-normal
 //                     diameters of mode d0 = 1.5 nm in [1.125, 7.5] nm (size ratio 6.7), 4,000-odd particles
-//                     read from bench/data/silica_d0_1.5nm.data (LAMMPS data, masses from the file), periodic
+//                     read from scenarios/wear/data/silica_d0_1.5nm.data (LAMMPS data, masses from the file), periodic
 //                     in x and z, free in y, Table 5 silica with s = 0.5, dt = 0.1 dt_c, no damping, thermal
 //                     velocities of 25 m/s rms (Gaussian components, seed fixed, no net momentum) so that the
 //                     list is rebuilt at the rate of a real run, settled for 3,000 steps (untimed). Arguments: threads, the most size classes the
@@ -336,7 +336,7 @@ const DemSimulation& poly_settled() {
   static std::unique_ptr<DemSimulation> sim;
   if (sim) return *sim;
   const char* env = std::getenv("DEBRIS_POLY_SAMPLE");
-  const std::string path = env ? env : std::string(DEBRIS_SOURCE_DIR) + "/bench/data/silica_d0_1.5nm.data";
+  const std::string path = env ? env : std::string(DEBRIS_SOURCE_DIR) + "/scenarios/wear/data/silica_d0_1.5nm.data";
   LammpsData data = read_lammps_data(path, {true, false, true});
   Particles& p = data.particles;
   std::mt19937_64 rng(20261201);

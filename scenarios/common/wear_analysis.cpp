@@ -142,7 +142,6 @@ const WearSample& WearAnalysis::sample(const DemSimulation& sim) {
   out.wall_force = comp(top.reaction, s_.sliding_axis);
   out.wall_slide = comp(top.displacement, s_.sliding_axis);
   out.wall_normal = comp(top.displacement, s_.normal_axis);
-  const double wall_speed = comp(top.velocity, s_.sliding_axis);
 
   // 1. Pairs in interaction range now; each keeps the step since which it has been in range at every sample.
   const CohesiveCutoff range{sim.coefficients()};
