@@ -95,6 +95,16 @@ struct RunPlan {
   double progress_seconds = 10;
 };
 
+/// The output fields every executable's output settings share (directory, thermo_every, checkpoint_every,
+/// progress_seconds), copied into the plan.
+template <class Output>
+void take_output_settings(RunPlan& plan, const Output& out) {
+  plan.directory = out.directory;
+  plan.thermo_every = out.thermo_every;
+  plan.checkpoint_every = out.checkpoint_every;
+  plan.progress_seconds = out.progress_seconds;
+}
+
 /// The input of a run: the file given with -i, or on restart without one, the text the checkpoint keeps.
 struct InputSource {
   std::string text, name, base_directory;

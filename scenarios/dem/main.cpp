@@ -243,10 +243,7 @@ RunPlan prepare(const RunOptions& opt) {
   plan.steps = cfg.steps;
   plan.stages = cfg.stages;
   plan.dt = sim.dt();
-  plan.directory = cfg.output.directory;
-  plan.thermo_every = cfg.output.thermo_every;
-  plan.checkpoint_every = cfg.output.checkpoint_every;
-  plan.progress_seconds = cfg.output.progress_seconds;
+  take_output_settings(plan, cfg.output);
   auto model = std::make_unique<DemRunModel>(std::move(sim), std::move(cfg));
   std::cout << model->describe() << "\n";
   plan.model = std::move(model);

@@ -221,8 +221,10 @@ class PeridemRunModel final : public RunModel {
 
   std::vector<PassTime> pass_times() const override {
     const PeridemPassTimes& t = sim_.times();
+    std::ostringstream builds;  // not "(" + std::to_string(..): GCC 12 warns (-Wrestrict) falsely on that
+    builds << "(" << t.rebuilds << " contact list builds in all)";
     return {{"integration", t.integration, ""},
-            {"neighbours", t.neighbours, "(" + std::to_string(t.rebuilds) + " contact list builds in all)"},
+            {"neighbours", t.neighbours, builds.str()},
             {"bonds", t.bonds, ""},
             {"contact", t.contact, ""},
             {"other", t.other, "(zero forces, gravity)"}};
@@ -272,10 +274,7 @@ RunPlan prepare(const RunOptions& opt) {
   plan.steps = cfg.steps;
   plan.stages = cfg.stages;
   plan.dt = sim.dt();
-  plan.directory = cfg.output.directory;
-  plan.thermo_every = cfg.output.thermo_every;
-  plan.checkpoint_every = cfg.output.checkpoint_every;
-  plan.progress_seconds = cfg.output.progress_seconds;
+  take_output_settings(plan, cfg.output);
   plan.model = std::make_unique<PeridemRunModel>(std::move(sim), std::move(cfg));
   return plan;
 }

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """One markdown table row per sheared-junction run, from its output directory and the log of its terminal
 output: N, steps, verdict, when the third body was first seen (time and sliding distance), the junction
-volume it holds, its centre speed and rolling number, and the wall time.
+volume it holds, its centre speed and rolling number, how long in all the run was judged rolling (a
+rolling body may be smeared out again later), and the wall time.
 
     python3 scenarios/wear/summarize.py out/wear/junction_D20_d0_1.5nm[.log] ...
 
@@ -30,6 +31,8 @@ def summarize(arg):
         if int(float(r["verdict"])) == 0:
             break
         first = r
+    rolling = sum(1 for r in rows if int(float(r["verdict"])) == 2)
+    dt = (float(rows[-1]["time"]) - float(rows[0]["time"])) / max(1, len(rows) - 1)
     n = re.search(r"particles (\d+), groups", text)
     wall = re.search(r"([\d.]+) s wall", text)
     rate = re.search(r"([\d.]+) M particle-steps/s while stepping", text)
@@ -38,12 +41,13 @@ def summarize(arg):
     third = (f"{float(last['third_volume']):.2f}, {float(last['centre_speed']):.2f}, "
              f"{float(last['rolling_number']):.2f}, {float(last['residual']):.2f}") if last["third_particles"] != "0" else "-"
     return (f"| {run.name} | {n.group(1) if n else '?'} | {last['step']} | **{VERDICTS[verdict]}** | {seen} | "
-            f"{third} | {wall.group(1) + ' s' if wall else '?'} | {rate.group(1) + ' M' if rate else '?'} |")
+            f"{third} | {rolling * dt * 1e9:.2f} ns | {wall.group(1) + ' s' if wall else '?'} | "
+            f"{rate.group(1) + ' M' if rate else '?'} |")
 
 
 if __name__ == "__main__":
     print("| case | N | steps | verdict | rigid third body since (time / slide) | last window: junction share, "
-          "centre speed, rolling number, fit residual | wall time | particle-steps/s |")
-    print("|---|---|---|---|---|---|---|---|")
+          "centre speed, rolling number, fit residual | time judged rolling | wall time | particle-steps/s |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for a in sys.argv[1:]:
         print(summarize(a))
