@@ -118,7 +118,7 @@ run:
   time_step: {case['dt_fs']} fs              # Table 6
   overlap_limit: auto          # relaxed samples hold overlaps of 0.6-1.3 r_min
   skin: 0.5 nm                 # carving leaves vibration: a wide skin keeps rebuilds rare (README)
-  threads: 2
+  threads: 1                   # measured: a second thread does not pay at these sizes (RESULTS.md, Cost)
 
 wear:
   every: {steps(SAMPLE_NS)}                   # steps: {SAMPLE_NS} ns
