@@ -150,6 +150,7 @@ const WearSample& WearAnalysis::sample(const DemSimulation& sim) {
   streak.reserve(streak_.size() + 16);
   const long persistence_steps = static_cast<long>(std::ceil(s_.persistence / sim.dt() - 1e-9));
   UnionFind clusters(n);
+  std::vector<std::pair<int, int>> in_range;  // the pairs in range now, each once (step 3 joins bodies by them)
   for (int i = 0; i < list.rows(); ++i) {
     const std::size_t a = static_cast<std::size_t>(i);
     for (int k = list.offset()[i]; k < list.offset()[i + 1]; ++k) {
@@ -157,6 +158,7 @@ const WearSample& WearAnalysis::sample(const DemSimulation& sim) {
       if (b <= a && list.kind() == NeighborKind::full) continue;  // a full list holds each pair twice
       const Vec3 d = minimum_image(bv, Vec3{p.x[a] - p.x[b], p.y[a] - p.y[b], p.z[a] - p.z[b]});
       if (norm(d) >= range(p.radius[a], p.radius[b])) continue;
+      in_range.emplace_back(static_cast<int>(a), static_cast<int>(b));
       const std::uint64_t key = pair_key(p.id[a], p.id[b]);
       const auto old = streak_.find(key);
       const long since = old == streak_.end() ? step : old->second;
@@ -228,16 +230,8 @@ const WearSample& WearAnalysis::sample(const DemSimulation& sim) {
       between[i] = f > s_.moving_min && f < s_.moving_max ? 1 : 0;
     }
     UnionFind bodies(n);
-    for (int i = 0; i < list.rows(); ++i) {
-      const std::size_t a = static_cast<std::size_t>(i);
-      if (!between[a]) continue;
-      for (int k = list.offset()[i]; k < list.offset()[i + 1]; ++k) {
-        const std::size_t b = static_cast<std::size_t>(list.index()[k]);
-        if (!between[b]) continue;
-        const Vec3 d = minimum_image(bv, Vec3{p.x[a] - p.x[b], p.y[a] - p.y[b], p.z[a] - p.z[b]});
-        if (norm(d) < range(p.radius[a], p.radius[b])) bodies.unite(static_cast<int>(a), static_cast<int>(b));
-      }
-    }
+    for (const auto& [a, b] : in_range)
+      if (between[static_cast<std::size_t>(a)] && between[static_cast<std::size_t>(b)]) bodies.unite(a, b);
     std::vector<double> share(n, 0.0);
     std::vector<long> count(n, 0);
     for (std::size_t i = 0; i < n; ++i) {
