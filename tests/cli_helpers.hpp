@@ -18,6 +18,18 @@ struct CommandResult {
   std::string output;  // stdout and stderr
 };
 
+/// The `material:` section of a debris_dem input for the Table 4 material of paper A (reduced units), which
+/// the command-line tests' small inputs share; tests edit its lines ("poisson_ratio: 0.15") to make bad ones.
+inline constexpr const char* kTable4MaterialYaml = R"(material:
+  youngs_modulus: 1
+  poisson_ratio: 0.15
+  tensile_strength: 0.2
+  shear_strength: 0.1
+  surface_energy: 1.5
+  restitution: 0.95
+  density: 1
+)";
+
 /// Runs `executable args` through the shell with stderr folded into stdout.
 inline CommandResult run_command(const std::string& executable, const std::string& args) {
   const std::string cmd = executable + " " + args + " 2>&1";

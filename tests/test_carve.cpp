@@ -29,15 +29,7 @@ namespace fs = std::filesystem;
 // The carving takes the layer y in [200, 300) except a cylinder of radius 150 along y: two slabs joined by
 // a junction. Labels paint the slabs, then the junction and the walls over them (later entries override).
 std::string carved_input(const std::string& out_dir, long steps = 20) {
-  return R"(material:
-  youngs_modulus: 1
-  poisson_ratio: 0.15
-  tensile_strength: 0.2
-  shear_strength: 0.1
-  surface_energy: 1.5
-  restitution: 0.95
-  density: 1
-particles:
+  return std::string(debris::test::kTable4MaterialYaml) + R"(particles:
   lattice:
     kind: fcc
     spacing: 100

@@ -27,15 +27,7 @@ fs::path scratch(const std::string& name) { return debris::test::fresh_directory
 
 // A small valid input; `edit` replaces one line to make it bad.
 std::string small_input(const std::string& out_dir) {
-  return R"(material:
-  youngs_modulus: 1
-  poisson_ratio: 0.15
-  tensile_strength: 0.2
-  shear_strength: 0.1
-  surface_energy: 1.5
-  restitution: 0.95
-  density: 1
-particles:
+  return std::string(debris::test::kTable4MaterialYaml) + R"(particles:
   lattice:
     kind: fcc
     spacing: 100

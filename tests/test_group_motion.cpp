@@ -13,6 +13,7 @@
 #include "core/io/input.hpp"
 #include "scenarios/common/dem_input.hpp"
 #include "scenarios/common/dem_simulation.hpp"
+#include "tests/cli_helpers.hpp"
 
 namespace debris {
 namespace {
@@ -123,15 +124,7 @@ TEST(GroupMotion, OtherBadPerAxisInputs) {
 // A cohesive HCP slab (Table 4 material, no units) between a frozen bottom wall and a top wall driven
 // along x at `vx`, held along z and loaded along y by `stress` over the x-z area.
 std::string slab_input(double vx, double stress) {
-  return R"(material:
-  youngs_modulus: 1
-  poisson_ratio: 0.15
-  tensile_strength: 0.2
-  shear_strength: 0.1
-  surface_energy: 1.5
-  restitution: 0.95
-  density: 1
-particles:
+  return std::string(debris::test::kTable4MaterialYaml) + R"(particles:
   lattice:
     kind: hcp
     hcp_c_axis: y

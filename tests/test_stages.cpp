@@ -73,15 +73,7 @@ std::string last_frame(const fs::path& dump) {
 // loaded top wall: settle with damping, slide the top wall at a prescribed velocity, then release it under
 // half the load with the adhesion switched off.
 std::string dem_staged_input(const std::string& out_dir) {
-  return R"(material:
-  youngs_modulus: 1
-  poisson_ratio: 0.15
-  tensile_strength: 0.2
-  shear_strength: 0.1
-  surface_energy: 1.5
-  restitution: 0.95
-  density: 1
-particles:
+  return std::string(debris::test::kTable4MaterialYaml) + R"(particles:
   lattice:
     kind: hcp
     hcp_c_axis: y
