@@ -285,7 +285,6 @@ void PeridemSimulation::set_wall_velocity(int g, Vec3 v) {
     nodes_.vy[i] = v.y;
     nodes_.vz[i] = v.z;
   }
-  compute_forces();
 }
 
 void PeridemSimulation::move_wall(int g, Vec3 d) {
@@ -331,12 +330,12 @@ void PeridemSimulation::move_wall(int g, Vec3 d) {
       }
     }
   }
-  rebuild_contacts();
-  compute_forces();
 }
 
-void PeridemSimulation::set_gravity(Vec3 g) {
-  settings_.gravity = g;
+void PeridemSimulation::set_gravity(Vec3 g) { settings_.gravity = g; }
+
+void PeridemSimulation::recompute_forces() {
+  rebuild_contacts();
   compute_forces();
 }
 

@@ -97,7 +97,8 @@ class PeridemSimulation {
   /// Sets every node of grain g to velocity v (initial conditions; before the first step).
   void set_grain_velocity(int g, Vec3 v);
 
-  // Between steps (a stage's start): each re-evaluates this step's forces, so the change acts at once.
+  // Between steps (a stage's start). After the last of them call recompute_forces(), so the changes act on
+  // this step's forces too.
   /// A wall's prescribed velocity from now on (its nodes take it at once).
   void set_wall_velocity(int g, Vec3 v);
   /// Moves wall g rigidly by d (a lid placed before it presses). InputError naming the wall and the grain
@@ -105,6 +106,8 @@ class PeridemSimulation {
   /// into the grains would throw them out at once.
   void move_wall(int g, Vec3 d);
   void set_gravity(Vec3 g);
+  /// Rebuilds the contact list and re-evaluates this step's forces for the state as edited.
+  void recompute_forces();
 
   /// One paragraph: nodes, grains, bonds, h, R_c, K_n, dt against the stable step.
   std::string summary() const;

@@ -215,6 +215,7 @@ class PeridemRunModel final : public RunModel {
            << ") m/s; ";
       }
     }
+    sim_.recompute_forces();  // once, for all of the stage's changes
     std::string what = os.str();
     return what.empty() ? what : what.substr(0, what.size() - 2);
   }
