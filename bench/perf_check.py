@@ -9,8 +9,9 @@ It runs debris_bench on a short subset (SUBSET below: the contact pass and the w
 
 Absolute speeds vary with the machine and its load (shared 2-core machines); a ratio measured back to back
 cancels most of that (shared/notes/measuring-speed.md). The check fails, exit status 1, when a ratio fell
-below baseline * (1 - tolerance), tolerance 0.25 by default: a real slowdown, not noise. It never fails on
-a speed-up; it says when one is large enough to deserve a new baseline.
+below baseline * (1 - tolerance), tolerance 0.25 by default: a real slowdown, not noise. A baseline entry
+may set its own "tolerance", with the measured spread that justifies it in "_tolerance" (--update keeps
+both). It never fails on a speed-up; it says when one is large enough to deserve a new baseline.
 
 Which clock. All benchmarks of the subset run on 1 thread, so their items per CPU-second of the benchmark
 thread (items per iteration / median CPU time) measure the same work as items per real second, minus the
@@ -32,6 +33,15 @@ repository root, on the machine kind in question and with the machine otherwise 
     python3 bench/perf_check.py --bench build/bin/debris_bench --update
 
 then run the check two or three times to see the spread, and commit perf_baseline.json with a note.
+
+A regression must be seen again, and the AMD kind needs a wider tolerance. On the 2-core AMD EPYC CI machine
+kind the memory-bound passes switch between a fast and a slow mode that lasts minutes (other tenants of the
+host share its caches and memory; the reference loop, bound by a sqrt chain, hardly moves): measured
+2026-12-01 on a quiet guest, BM_Step's CPU-time ratio was 0.0134 in one check and 0.0084-0.0099 in fifteen
+runs over the next five minutes (-26% to -37%); BM_CohesivePass 0.0127 against 0.0085-0.0098. A reference
+with a 12 MiB gather did not track the modes either. So that kind's entry has tolerance 0.45, and a
+benchmark below its limit is measured again (--confirm more runs, 2 by default) and fails the check only
+when every run puts it below the limit.
 
 Exit status: 0 passed (or baseline written), 1 regression, 2 could not run, parse or find a baseline.
 Python 3 standard library only.
@@ -166,58 +176,8 @@ def kind_of(entry):
     return (rec.get("cpu"), rec.get("isa"))
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
-                                 epilog="See the comment at the top of this file for when and how to refresh "
-                                        "the baseline.")
-    ap.add_argument("--bench", default=DEFAULT_BENCH, help="debris_bench executable (default: %(default)s)")
-    ap.add_argument("--baseline", default=DEFAULT_BASELINE, help="baseline file (default: %(default)s)")
-    ap.add_argument("--tolerance", type=float, default=0.25,
-                    help="fail when ratio < baseline * (1 - tolerance) (default: %(default)s)")
-    ap.add_argument("--repetitions", type=int, default=5, help="repetitions per benchmark (default: %(default)s)")
-    ap.add_argument("--min-time", type=float, default=0.5,
-                    help="--benchmark_min_time per repetition, seconds (default: %(default)s)")
-    ap.add_argument("--timeout", type=int, default=300, help="seconds before giving up (default: %(default)s)")
-    ap.add_argument("--clock", choices=["cpu", "real"], default="cpu",
-                    help="which ratio decides: items per CPU-second of the benchmark thread (default; steady "
-                         "on a loaded machine) or per real second (flaky when other processes compete)")
-    ap.add_argument("--update", action="store_true",
-                    help="write the measured ratios to the baseline file instead of checking")
-    args = ap.parse_args()
-    if not (0 < args.tolerance < 1):
-        fail(2, "--tolerance must be in (0, 1), got %g" % args.tolerance)
-    if args.repetitions < 1:
-        fail(2, "--repetitions must be >= 1")
-
-    here = (cpu_model(), isa_level())
-    entries = []
-    try:
-        with open(args.baseline) as f:
-            entries = baseline_entries(json.load(f))
-    except OSError:
-        if not args.update:
-            fail(2, "cannot read the baseline %s; create it with --update" % args.baseline)
-    except (ValueError, KeyError, TypeError) as e:
-        fail(2, "cannot parse the baseline %s (%s); fix or remove it (--update then writes a new one; it never "
-                "overwrites a file it cannot read, which may hold other CPU kinds' baselines)" % (args.baseline, e))
-    if not args.update:
-        # A kernel's speed relative to the reference loop depends on the CPU (and on which vector clone it
-        # runs), so each baseline only judges machines of the kind it was recorded on.
-        baseline = next((e for e in entries if kind_of(e) == here), None)
-        if baseline is None:
-            kinds = "; ".join("%s (%s)" % kind_of(e) for e in entries) or "none"
-            print("perf_check: skipped: no baseline for this kind of CPU, %s (%s); the file has: %s. Ratios are "
-                  "not comparable across CPU kinds. Record one on this kind with --update." % (here[0], here[1],
-                                                                                             kinds))
-            return 0
-        if baseline.get("reference", REFERENCE) != REFERENCE:
-            fail(2, "the baseline was measured against %s, not %s: refresh it with --update"
-                 % (baseline.get("reference"), REFERENCE))
-        try:
-            base_ratios = baseline["ratios" if args.clock == "real" else "cpu_time_ratios"]
-        except KeyError as e:
-            fail(2, "the baseline for this CPU kind has no %s; refresh it with --update" % e)
-
+def measure(args):
+    """One run of the subset: ratios to the reference loop, real and CPU time."""
     medians, cvs, cpu_rates, context = run_benchmarks(args.bench, args.repetitions, args.min_time, args.timeout)
     ref = medians[REFERENCE]
     ratios = {n: medians[n] / ref for n in SUBSET}
@@ -229,50 +189,11 @@ def main():
         datetime.datetime.now().astimezone().isoformat(timespec="seconds"), commit or "?",
         " (modified)" if dirty else "", load[0], load[1], load[2], cpu_model()))
     print("reference %s: median %.4g items/s (cv %.1f%%)" % (REFERENCE, ref, 100 * cvs.get(REFERENCE, float("nan"))))
+    return medians, cvs, cpu_rates, ratios, cpu_ratios, context, commit, dirty, load
 
-    if args.update:
-        entry = {
-            "reference": REFERENCE,
-            "ratios": ratios,
-            "cpu_time_ratios": cpu_ratios,
-            "recorded": {
-                "date": datetime.datetime.now().astimezone().isoformat(timespec="seconds"),
-                "commit": commit,
-                "modified_tree": dirty,
-                "host": platform.node(),
-                "cpu": cpu_model(),
-                "isa": isa_level(),
-                "num_cpus": context.get("num_cpus"),
-                "load_average": [round(x, 2) for x in load],
-                "repetitions": args.repetitions,
-                "min_time_s": args.min_time,
-                "median_items_per_second": {n: medians[n] for n in SUBSET + [REFERENCE]},
-                "cv_items_per_second": {n: cvs.get(n) for n in SUBSET + [REFERENCE]},
-            },
-        }
-        # This CPU kind's entry is replaced; the other kinds' entries are kept.
-        kept = [e for e in entries if kind_of(e) != here]
-        document = {
-            "_comment": "One baseline per CPU kind (cpu model and x86-64 level). ratios: (median items/s) / "
-                        "(median items/s of the reference), real time; cpu_time_ratios: the same in items per "
-                        "CPU-second (what decides by default). Each measured in one run by bench/perf_check.py "
-                        "--update. Refresh on purpose only; see the top of perf_check.py.",
-            "baselines": kept + [entry],
-        }
-        # Written beside it and renamed over it: an interrupted update leaves the old file, with the other
-        # kinds' baselines, whole.
-        partial = args.baseline + ".partial"
-        with open(partial, "w") as f:
-            json.dump(document, f, indent=2, sort_keys=False)
-            f.write("\n")
-        os.replace(partial, args.baseline)
-        print("%-46s %12s %8s %12s" % ("benchmark", "ratio", "cv", "cpu ratio"))
-        for n in SUBSET:
-            print("%-46s %12.5g %7.1f%% %12.5g" % (n, ratios[n], 100 * cvs.get(n, float("nan")), cpu_ratios[n]))
-        print("\nwrote %s. Now run the check two or three times (without --update) to see the spread of the "
-              "ratios, and commit the file with a note saying why the baseline changed." % args.baseline)
-        return 0
 
+def judge(args, base_ratios, ratios, cpu_ratios, cvs):
+    """Prints the table of one run; returns the benchmarks below their limit."""
     other_name = "cpu ratio" if args.clock == "real" else "real ratio"
     print("ratios decided on: items per %s second (--clock %s)" % ("real" if args.clock == "real" else "CPU",
                                                                     args.clock))
@@ -302,13 +223,134 @@ def main():
                                                                          other[n], status))
     if missing:
         fail(2, "no baseline ratio for %s: refresh the baseline with --update" % ", ".join(missing))
-    if regressions:
-        print("\nperf_check: FAILED: %d benchmark(s) slower than baseline by more than %.0f%% relative to the "
-              "reference loop. If the slowdown is intended, refresh the baseline: python3 bench/perf_check.py "
-              "--bench %s --update" % (len(regressions), 100 * args.tolerance, args.bench))
-        return 1
-    print("\nperf_check: passed (tolerance %.0f%%)" % (100 * args.tolerance))
-    return 0
+    return regressions
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                 epilog="See the comment at the top of this file for when and how to refresh "
+                                        "the baseline.")
+    ap.add_argument("--bench", default=DEFAULT_BENCH, help="debris_bench executable (default: %(default)s)")
+    ap.add_argument("--baseline", default=DEFAULT_BASELINE, help="baseline file (default: %(default)s)")
+    ap.add_argument("--tolerance", type=float, default=None,
+                    help="fail when ratio < baseline * (1 - tolerance) (default: the baseline entry's 'tolerance', "
+                         "else 0.25)")
+    ap.add_argument("--repetitions", type=int, default=5, help="repetitions per benchmark (default: %(default)s)")
+    ap.add_argument("--min-time", type=float, default=0.5,
+                    help="--benchmark_min_time per repetition, seconds (default: %(default)s)")
+    ap.add_argument("--timeout", type=int, default=300, help="seconds before giving up (default: %(default)s)")
+    ap.add_argument("--clock", choices=["cpu", "real"], default="cpu",
+                    help="which ratio decides: items per CPU-second of the benchmark thread (default; steady "
+                         "on a loaded machine) or per real second (flaky when other processes compete)")
+    ap.add_argument("--confirm", type=int, default=2,
+                    help="measure again up to this many times while a benchmark is below its limit; it fails only "
+                         "if below in every run (default: %(default)s)")
+    ap.add_argument("--update", action="store_true",
+                    help="write the measured ratios to the baseline file instead of checking")
+    args = ap.parse_args()
+    if args.tolerance is not None and not (0 < args.tolerance < 1):
+        fail(2, "--tolerance must be in (0, 1), got %g" % args.tolerance)
+    if args.repetitions < 1:
+        fail(2, "--repetitions must be >= 1")
+    if args.confirm < 0:
+        fail(2, "--confirm must be >= 0")
+
+    here = (cpu_model(), isa_level())
+    entries = []
+    try:
+        with open(args.baseline) as f:
+            entries = baseline_entries(json.load(f))
+    except OSError:
+        if not args.update:
+            fail(2, "cannot read the baseline %s; create it with --update" % args.baseline)
+    except (ValueError, KeyError, TypeError) as e:
+        fail(2, "cannot parse the baseline %s (%s); fix or remove it (--update then writes a new one; it never "
+                "overwrites a file it cannot read, which may hold other CPU kinds' baselines)" % (args.baseline, e))
+    if not args.update:
+        # A kernel's speed relative to the reference loop depends on the CPU (and on which vector clone it
+        # runs), so each baseline only judges machines of the kind it was recorded on.
+        baseline = next((e for e in entries if kind_of(e) == here), None)
+        if baseline is None:
+            kinds = "; ".join("%s (%s)" % kind_of(e) for e in entries) or "none"
+            print("perf_check: skipped: no baseline for this kind of CPU, %s (%s); the file has: %s. Ratios are "
+                  "not comparable across CPU kinds. Record one on this kind with --update." % (here[0], here[1],
+                                                                                             kinds))
+            return 0
+        if baseline.get("reference", REFERENCE) != REFERENCE:
+            fail(2, "the baseline was measured against %s, not %s: refresh it with --update"
+                 % (baseline.get("reference"), REFERENCE))
+        if args.tolerance is None:
+            args.tolerance = float(baseline.get("tolerance", 0.25))
+            if not (0 < args.tolerance < 1):
+                fail(2, "the baseline's tolerance must be in (0, 1), got %g" % args.tolerance)
+        try:
+            base_ratios = baseline["ratios" if args.clock == "real" else "cpu_time_ratios"]
+        except KeyError as e:
+            fail(2, "the baseline for this CPU kind has no %s; refresh it with --update" % e)
+
+    if args.update:
+        medians, cvs, cpu_rates, ratios, cpu_ratios, context, commit, dirty, load = measure(args)
+        previous = next((e for e in entries if kind_of(e) == here), {})
+        entry = {k: previous[k] for k in ("tolerance", "_tolerance") if k in previous}
+        entry.update({
+            "reference": REFERENCE,
+            "ratios": ratios,
+            "cpu_time_ratios": cpu_ratios,
+            "recorded": {
+                "date": datetime.datetime.now().astimezone().isoformat(timespec="seconds"),
+                "commit": commit,
+                "modified_tree": dirty,
+                "host": platform.node(),
+                "cpu": cpu_model(),
+                "isa": isa_level(),
+                "num_cpus": context.get("num_cpus"),
+                "load_average": [round(x, 2) for x in load],
+                "repetitions": args.repetitions,
+                "min_time_s": args.min_time,
+                "median_items_per_second": {n: medians[n] for n in SUBSET + [REFERENCE]},
+                "cv_items_per_second": {n: cvs.get(n) for n in SUBSET + [REFERENCE]},
+            },
+        })
+        # This CPU kind's entry is replaced; the other kinds' entries are kept.
+        kept = [e for e in entries if kind_of(e) != here]
+        document = {
+            "_comment": "One baseline per CPU kind (cpu model and x86-64 level). ratios: (median items/s) / "
+                        "(median items/s of the reference), real time; cpu_time_ratios: the same in items per "
+                        "CPU-second (what decides by default). Each measured in one run by bench/perf_check.py "
+                        "--update. Refresh on purpose only; see the top of perf_check.py.",
+            "baselines": kept + [entry],
+        }
+        # Written beside it and renamed over it: an interrupted update leaves the old file, with the other
+        # kinds' baselines, whole.
+        partial = args.baseline + ".partial"
+        with open(partial, "w") as f:
+            json.dump(document, f, indent=2, sort_keys=False)
+            f.write("\n")
+        os.replace(partial, args.baseline)
+        print("%-46s %12s %8s %12s" % ("benchmark", "ratio", "cv", "cpu ratio"))
+        for n in SUBSET:
+            print("%-46s %12.5g %7.1f%% %12.5g" % (n, ratios[n], 100 * cvs.get(n, float("nan")), cpu_ratios[n]))
+        print("\nwrote %s. Now run the check two or three times (without --update) to see the spread of the "
+              "ratios, and commit the file with a note saying why the baseline changed." % args.baseline)
+        return 0
+
+    suspects = []
+    for attempt in range(1 + args.confirm):
+        if attempt:
+            print("\nmeasured again (%d of %d) to confirm: %s" % (attempt, args.confirm, ", ".join(suspects)))
+        medians, cvs, cpu_rates, ratios, cpu_ratios, context, commit, dirty, load = measure(args)
+        below = judge(args, base_ratios, ratios, cpu_ratios, cvs)
+        # A benchmark stays a suspect only while every run so far found it below its limit.
+        suspects = below if attempt == 0 else [n for n in suspects if n in below]
+        if not suspects:
+            print("\nperf_check: passed (tolerance %.0f%%%s)" % (
+                100 * args.tolerance, ", after %d confirming run(s)" % attempt if attempt else ""))
+            return 0
+    print("\nperf_check: FAILED: %d benchmark(s) slower than baseline by more than %.0f%% relative to the "
+          "reference loop in all %d runs: %s. If the slowdown is intended, refresh the baseline: python3 "
+          "bench/perf_check.py --bench %s --update" % (len(suspects), 100 * args.tolerance, 1 + args.confirm,
+                                                      ", ".join(suspects), args.bench))
+    return 1
 
 
 if __name__ == "__main__":
