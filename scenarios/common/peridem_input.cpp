@@ -490,6 +490,11 @@ PeridemRunConfig read_peridem_input(const InputNode& root, const std::string& ba
   if (!(cfg.settings.skin >= 0))
     throw input_error("run.skin", format_value(cfg.settings.skin), "must be >= 0 (0: R_c)");
   cfg.settings.allow_unstable_time_step = run.boolean("allow_unstable_time_step", false);
+  cfg.penetration_limit = run.quantity("penetration_limit", u::dimensionless, cfg.penetration_limit);
+  if (!(cfg.penetration_limit > 0 && cfg.penetration_limit <= 1))
+    throw input_error("run.penetration_limit", format_value(cfg.penetration_limit),
+                      "must be in (0, 1]: the depth R_c - |z' - z|, as a fraction of R_c, past which a node pair "
+                      "of two bodies stops the run (1: never)");
   cfg.threads = static_cast<int>(run.integer("threads", 0));
   if (cfg.threads < 0) throw input_error("run.threads", std::to_string(cfg.threads), "must be >= 0");
 

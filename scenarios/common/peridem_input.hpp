@@ -36,7 +36,7 @@
 //   gravity: [0, -10 m/s^2, 0]
 //   stages: [...]                                 # optional: see PeridemStageChanges below
 //   run: {time_step: 0.1 us, steps: 1000 (or final_time: 1 ms; with stages optional), skin: 0 (R_c), threads: 0,
-//         allow_unstable_time_step: false}
+//         allow_unstable_time_step: false, penetration_limit: 0.5}
 //   output: {directory: out, thermo_every: 100, trajectory_every: 0, checkpoint_every: 0,
 //            progress_seconds: 10, grain_columns: 8}
 //
@@ -103,6 +103,7 @@ struct PeridemRunConfig {
   std::vector<StageLength> stages;
   std::vector<PeridemStageChanges> stage_changes;  // one per stage
   int threads = 0;                       // 0 = OpenMP default
+  double penetration_limit = 0.5;        // health check: a node pair closer than (1 - this) R_c stops the run
   PeridemOutputSettings output;
 };
 
