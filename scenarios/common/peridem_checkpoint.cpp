@@ -5,9 +5,9 @@
 //  - the bonds: rebuilt from the reference positions (BondList::build is deterministic), their row offsets
 //    checked against the saved ones, and the broken flags set from the saved list of broken entries;
 //  - the contact list: rebuilt from the node positions at its last build, so its rows and slots, the order
-//    of every force sum, and the moment of its next rebuild are those of the run that wrote it. Every build
-//    happens after the bonds broken in that step (the simulation rebuilds at once when one breaks), so the
-//    current broken flags are those the list was built with;
+//    of every force sum, and the moment of its next rebuild are those of the run that wrote it. Bonds that
+//    broke after the build were added to the list in place, which gives exactly the list a build at those
+//    positions with the current broken flags gives (rows ascending, core/pd_contact_list.hpp);
 //  - the integrator's first-step flag is step == 0; the stable step and h (eq 35) are saved, not
 //    recomputed (the stable step's power iteration is the slow part of a start).
 // The LPS constants and the contact table are derived from the saved materials, contact settings and h,

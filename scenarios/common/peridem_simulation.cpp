@@ -235,10 +235,14 @@ void PeridemSimulation::compute_forces() {
   const long broke = pd_bond_step(lps_, grains_, bonds_, nodes_);
   times_.bonds += seconds_since(t0);
   // Both callers hand over a list that is fresh for these positions (just built, or checked by step()), so
-  // only a broken bond makes it stale here: its two nodes may now touch (self-contact).
+  // only a broken bond makes it stale here: its two nodes may now touch (self-contact). The list takes
+  // their pairs in place (a full rebuild here cost 13-18 ms against an 11 ms step on the 502-grain deck).
   if (broke > 0) {
     broken_total_ += broke;
-    rebuild_contacts();
+    t0 = Clock::now();
+    list_.add_broken_bonds(bonds_);
+    ++times_.self_contact_updates;
+    times_.neighbours += seconds_since(t0);
   }
   t0 = Clock::now();
   pd_contact_pass(table_, settings_.damping, nodes_, grains_, list_, work_, settings_.time_step);

@@ -38,6 +38,7 @@ struct PeridemPassTimes {
   double contact = 0;      // contact forces and damping
   double other = 0;        // zeroing forces, gravity
   long rebuilds = 0;       // contact list rebuilds in that time
+  long self_contact_updates = 0;  // steps whose broken bonds were added to the list in place
 };
 
 /// Sums over the system at one instant.

@@ -224,7 +224,9 @@ class PeridemRunModel final : public RunModel {
   std::vector<PassTime> pass_times() const override {
     const PeridemPassTimes& t = sim_.times();
     std::ostringstream builds;  // not "(" + std::to_string(..): GCC 12 warns (-Wrestrict) falsely on that
-    builds << "(" << t.rebuilds << " contact list builds in all)";
+    builds << "(" << t.rebuilds << " contact list builds in all";
+    if (t.self_contact_updates > 0) builds << ", " << t.self_contact_updates << " updates for broken bonds";
+    builds << ")";
     return {{"integration", t.integration, ""},
             {"neighbours", t.neighbours, builds.str()},
             {"bonds", t.bonds, ""},
