@@ -252,6 +252,11 @@ TEST_F(PeridemCli, PenetrationLimitOutOfRange) {
                   {"run.penetration_limit", "0", "(0, 1]"});
 }
 
+TEST_F(PeridemCli, UnknownBondBreakingRule) {
+  expect_rejected(replace(small_input(out.string()), "horizon: 0.6 mm", "horizon: 0.6 mm\n    bond_breaking: sometimes"),
+                  {"bond_breaking", "sometimes", "tension_and_compression"});
+}
+
 TEST_F(PeridemCli, GrainPlacedIntoAWallKeepsEarlierResults) {
   expect_rejected(replace(small_input(out.string()), "centre: [0, 1.18 mm, 0]", "centre: [0, 0.95 mm, 0]"),
                   {"grains.bottom", "wall 'floor'"});

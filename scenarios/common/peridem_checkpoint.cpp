@@ -65,6 +65,9 @@ void PeridemSimulation::write_checkpoint(const std::string& path, const std::str
         mats.insert(mats.end(), {m.density, m.bulk_modulus, m.shear_modulus, m.fracture_energy, m.horizon,
                                  static_cast<double>(m.dimension)});
       set.write("materials", mats, materials_.size(), kMaterialFields);
+      std::vector<std::int32_t> compression;
+      for (const PdMaterial& m : materials_) compression.push_back(m.break_in_compression);
+      set.write("materials_break_in_compression", compression);
       std::vector<double> contact;
       for (const PdContactSettings& c : contact_settings_)
         contact.insert(contact.end(), {c.contact_radius_factor, c.restitution, c.damping_factor, c.friction,
@@ -150,6 +153,13 @@ PeridemSimulation PeridemSimulation::from_checkpoint(const std::string& path, st
       m.horizon = mats[k + 4];
       m.dimension = static_cast<int>(mats[k + 5]);
       sim.materials_.push_back(m);
+    }
+    // Absent from checkpoints written before the setting existed: bonds broke in tension only then.
+    if (set.has("materials_break_in_compression")) {
+      const auto compression = set.read<std::int32_t>("materials_break_in_compression").values;
+      if (compression.size() != sim.materials_.size())
+        throw corrupt(path, "settings/materials_break_in_compression does not match the materials");
+      for (std::size_t k = 0; k < compression.size(); ++k) sim.materials_[k].break_in_compression = compression[k] != 0;
     }
     const auto contact = set.read<double>("contact").values;
     if (contact.empty() || contact.size() % kContactFields != 0)

@@ -55,23 +55,6 @@ fs::path resolve(const std::string& file, const std::string& base) {
 
 // ---- materials ----------------------------------------------------------------------------------------
 
-PdMaterial read_material(const InputNode& n, int dimension) {
-  PdMaterial m;
-  m.density = n.quantity("density", u::density);
-  m.bulk_modulus = n.quantity("bulk_modulus", u::pressure);
-  m.shear_modulus = n.quantity("shear_modulus", u::pressure);
-  m.fracture_energy = n.quantity("fracture_energy", u::surface_energy);
-  m.horizon = n.quantity("horizon", u::length);
-  m.dimension = dimension;
-  // plane_strain: the 2D constants that give a grain the material's K and G (kernels/pd_material.hpp);
-  // peridem_code: the 3D constants on the 2D grain, as the authors' code (and so the paper's runs) does.
-  if (dimension == 2) {
-    if (n.choice("lps_constants", {"plane_strain", "peridem_code"}, "plane_strain") == "peridem_code") m.dimension = 3;
-  }
-  m.validate(n.path().c_str());
-  return m;
-}
-
 // ---- shapes ---------------------------------------------------------------------------------------------
 
 struct ShapeInput {
@@ -361,6 +344,26 @@ PeridemStageChanges read_stage_changes(const InputNode& st, const std::vector<Wa
 
 }  // namespace
 
+PdMaterial read_pd_material(const InputNode& n, int dimension) {
+  PdMaterial m;
+  m.density = n.quantity("density", u::density);
+  m.bulk_modulus = n.quantity("bulk_modulus", u::pressure);
+  m.shear_modulus = n.quantity("shear_modulus", u::pressure);
+  m.fracture_energy = n.quantity("fracture_energy", u::surface_energy);
+  m.horizon = n.quantity("horizon", u::length);
+  m.dimension = dimension;
+  // plane_strain: the 2D constants that give a grain the material's K and G (kernels/pd_material.hpp);
+  // peridem_code: the 3D constants on the 2D grain, as the authors' code (and so the paper's runs) does.
+  if (dimension == 2) {
+    if (n.choice("lps_constants", {"plane_strain", "peridem_code"}, "plane_strain") == "peridem_code") m.dimension = 3;
+  }
+  // tension: eq 11 as the paper writes it; tension_and_compression: the authors' code, |s| >= s_0.
+  m.break_in_compression =
+      n.choice("bond_breaking", {"tension", "tension_and_compression"}, "tension") == "tension_and_compression";
+  m.validate(n.path().c_str());
+  return m;
+}
+
 PeridemRunConfig read_peridem_input(const std::string& path, const PeridemInputOptions& options) {
   const InputNode root = InputNode::load_file(path);
   return read_peridem_input(root, fs::path(path).parent_path().string(), options);
@@ -384,7 +387,7 @@ PeridemRunConfig read_peridem_input(const InputNode& root, const std::string& ba
   for (const std::string& k : mats.keys()) {
     check_name(k, "materials." + k);
     cfg.material_names.push_back(k);
-    cfg.materials.push_back(read_material(mats.child(k), dim));
+    cfg.materials.push_back(read_pd_material(mats.child(k), dim));
   }
   if (cfg.materials.empty()) throw input_error("materials", "(empty)", "define at least one material");
 

@@ -15,28 +15,13 @@
 #include "core/exec.hpp"
 #include "core/io/input.hpp"
 #include "core/units.hpp"
+#include "scenarios/common/peridem_input.hpp"
 #include "scenarios/common/two_particle_drop.hpp"
 
 namespace {
 
 using namespace debris;
 namespace u = debris::units;
-
-PdMaterial read_material(const InputNode& n, int dimension) {
-  PdMaterial m;
-  m.density = n.quantity("density", u::density);
-  m.bulk_modulus = n.quantity("bulk_modulus", u::pressure);
-  m.shear_modulus = n.quantity("shear_modulus", u::pressure);
-  m.fracture_energy = n.quantity("fracture_energy", u::surface_energy);
-  m.horizon = n.quantity("horizon", u::length);
-  m.dimension = dimension;
-  // plane_strain: the 2D constants that give a grain the material's K and G (kernels/pd_material.hpp);
-  // peridem_code: the 3D constants on the 2D grain, as the authors' code (and so the paper's tables) does.
-  if (n.choice("lps_constants", {"plane_strain", "peridem_code"}, "plane_strain") == "peridem_code") m.dimension = 3;
-  n.reject_unknown_keys();
-  m.validate(n.path().c_str());
-  return m;
-}
 
 struct Case {
   std::string name;
@@ -51,7 +36,7 @@ int run(const std::string& input, const std::string& output, int threads) {
   if (dimension != 2) throw input_error("dimension", std::to_string(dimension), "only 2 is supported by this scenario");
   std::map<std::string, PdMaterial> materials;
   const InputNode mats = root.child("materials");
-  for (const std::string& k : mats.keys()) materials[k] = read_material(mats.child(k), dimension);
+  for (const std::string& k : mats.keys()) materials[k] = read_pd_material(mats.child(k), dimension);
 
   TwoParticleDrop base;
   base.mesh_size = root.quantity("mesh_size", u::length, base.mesh_size);
