@@ -74,6 +74,16 @@ int run(const std::string& input, const std::string& output, int threads) {
     k.spec.restitution = c.quantity("restitution", u::dimensionless);
     k.spec.time_step = c.quantity("time_step", u::time);
     k.spec.initial_speed = c.quantity("initial_speed", u::velocity, 0.0);
+    // A mesh study (Table 4) refines the mesh and the horizon together, case by case.
+    k.spec.mesh_size = c.quantity("mesh_size", u::length, base.mesh_size);
+    if (!(k.spec.mesh_size > 0) || !std::isfinite(k.spec.mesh_size))
+      throw input_error(c.path() + ".mesh_size", format_value(k.spec.mesh_size), "must be > 0");
+    if (c.has("horizon")) {
+      const double horizon = c.quantity("horizon", u::length);
+      if (!(horizon > 0) || !std::isfinite(horizon))
+        throw input_error(c.path() + ".horizon", format_value(horizon), "must be > 0");
+      k.spec.bottom_material.horizon = k.spec.top_material.horizon = horizon;
+    }
     k.paper = c.quantity("paper", u::dimensionless, -1.0);
     c.reject_unknown_keys();
     cases.push_back(k);
@@ -88,7 +98,7 @@ int run(const std::string& input, const std::string& output, int threads) {
   if (!csv) throw input_error("output", output, "cannot create restitution.csv there");
   csv << "case,bottom_radius_m,top_radius_m,materials,restitution_parameter,time_step_s,initial_speed_m_s,"
          "paper_C_R,debris_C_R,difference,rebound_height_m,contact_time_s,steps,nodes,broken_bonds,"
-         "bottom_max_damage,top_max_damage,wall_seconds\n";
+         "bottom_max_damage,top_max_damage,wall_seconds,mesh_h_m,horizon_m\n";
   std::printf("%-16s %-9s %-7s %5s %8s %7s %9s %9s %8s %8s %8s %8s\n", "case", "(R1,R2)mm", "mat", "eps", "dt_us",
               "v0", "paper", "debris", "diff", "Z_bot", "Z_top", "wall_s");
   for (const Case& k : cases) {
@@ -100,7 +110,8 @@ int run(const std::string& input, const std::string& output, int threads) {
     csv << ',' << r.restitution_coefficient << ',';
     if (k.paper >= 0) csv << diff;
     csv << ',' << r.rebound_height << ',' << r.contact_time << ',' << r.steps << ',' << r.nodes << ',' << r.broken_bonds
-        << ',' << r.bottom_max_damage << ',' << r.top_max_damage << ',' << r.wall_seconds << '\n';
+        << ',' << r.bottom_max_damage << ',' << r.top_max_damage << ',' << r.wall_seconds << ',' << r.mesh_h << ','
+        << k.spec.top_material.horizon << '\n';
     csv.flush();
     char radii[32];
     std::snprintf(radii, sizeof radii, "(%g,%g)", k.spec.bottom_radius * 1e3, k.spec.top_radius * 1e3);
