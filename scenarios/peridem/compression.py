@@ -104,35 +104,12 @@ def main():
     fig.savefig(png, dpi=110)
     print("wrote " + png)
 
-    traj = os.path.join(args.out_dir, "trajectory.h5")
-    if not os.path.exists(traj):
-        return 0
-    import h5py
+    if os.path.exists(os.path.join(args.out_dir, "trajectory.h5")):
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        from damage_picture import damage_pictures
 
-    with h5py.File(traj, "r") as f:
-        kind = f["grains/kind"][:]
-        grain = f["nodes/grain"][:]
-        wall = kind[grain] == 1
-        frames = sorted(((f["frames/" + k].attrs["time"], k) for k in f["frames"]), key=lambda p: p[0])
-        times = np.array([p[0] for p in frames])
-        for k, m in enumerate(marks):
-            j = int(np.argmin(np.abs(times - m)))
-            if abs(times[j] - m) > 1.5e-3:
-                continue  # the run has not reached it
-            pos = f["frames/%s/position" % frames[j][1]][:]
-            dmg = np.minimum(f["frames/%s/damage" % frames[j][1]][:], 1.0)
-            fig, ax = plt.subplots(figsize=(6, 4.2))
-            ax.scatter(1e3 * pos[wall, 0], 1e3 * pos[wall, 1], s=0.3, color="0.5")
-            sc = ax.scatter(1e3 * pos[~wall, 0], 1e3 * pos[~wall, 1], s=0.3, c=dmg[~wall], cmap="jet", vmin=0, vmax=1)
-            ax.set_aspect("equal")
-            ax.set_title("t%d = %.4g s (frame at %.4g s): damage Z, clipped at 1" % (k + 1, m, times[j]), fontsize=9)
-            ax.set_xlabel("x (mm)")
-            ax.set_ylabel("y (mm)")
-            fig.colorbar(sc, ax=ax, shrink=0.8)
-            fig.tight_layout()
-            png = os.path.join(pic_dir, "compression_damage_t%d.png" % (k + 1))
-            fig.savefig(png, dpi=110)
-            plt.close(fig)
+        labels = ["t%d = %.4g s" % (k + 1, m) for k, m in enumerate(marks)]
+        for png in damage_pictures(args.out_dir, marks, "compression_damage_t", pic_dir, labels):
             print("wrote " + png)
     return 0
 
