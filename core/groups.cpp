@@ -57,38 +57,12 @@ void Groups::kick_rigid(double dt) {
   }
 }
 
-Groups::Partials::Partials(Partials&& o) noexcept { v_.swap(o.v_); }
-
-Groups::Partials& Groups::Partials::operator=(Partials&& o) noexcept {
-  if (this != &o) {
-    release();
-    v_.swap(o.v_);
-  }
-  return *this;
-}
-
-double* Groups::Partials::reserve(std::size_t n) {
-  if (v_.size() < n) {
-    release();
-    v_.resize(n);
-    exec::device_enter(v_.data(), n * sizeof(double));
-  }
-  return v_.data();
-}
-
-void Groups::Partials::to_host(std::size_t n) { exec::update_host(v_.data(), n * sizeof(double)); }
-
-void Groups::Partials::release() {
-  if (!v_.empty()) exec::device_exit(v_.data(), v_.size() * sizeof(double));
-  std::vector<double>().swap(v_);
-}
-
 void Groups::sum_by_group(const Particles& p, const double* a, const double* b, const double* c, const double* w,
                           std::vector<Vec3>& out) {
   const int n = static_cast<int>(p.size());
   const int ng = static_cast<int>(list.size());
   const int block = kSumBlock;
-  const int blocks = (n + block - 1) / block;
+  const int blocks = sum_blocks(n);
   const std::size_t len = static_cast<std::size_t>(blocks) * static_cast<std::size_t>(ng) * 3;
   double* part = partials_.reserve(len);
   const int* group = p.group.data();

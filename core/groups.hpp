@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "core/block_sums.hpp"
 #include "core/vec3.hpp"
 
 namespace debris {
@@ -81,30 +82,12 @@ class Groups {
   /// Adds each group's centre-of-mass velocity times dt to its displacement (call after the drift).
   void accumulate_displacements(const Particles& p, double dt);
 
-  /// Particles per summation block: a constant, so that the sums do not depend on the thread count.
-  static constexpr int kSumBlock = 2048;
+  /// Particles per summation block (core/block_sums.hpp).
+  static constexpr int kSumBlock = debris::kSumBlock;
 
  private:
-  // Per block and group, the partial sums of one per-particle vector, [block][group][xyz]. Derived data:
-  // a copy starts empty, a move takes the buffer and its device entry along (offload builds: the buffer is
-  // entered on the device when sized and released when freed).
-  class Partials {
-   public:
-    Partials() = default;
-    Partials(const Partials&) {}
-    Partials& operator=(const Partials&) { return *this; }
-    Partials(Partials&& o) noexcept;
-    Partials& operator=(Partials&& o) noexcept;
-    ~Partials() { release(); }
-    /// At least n doubles, entered on the device; allocates only when n grows.
-    double* reserve(std::size_t n);
-    /// Device -> host of the first n doubles after a kernel filled them.
-    void to_host(std::size_t n);
-
-   private:
-    void release();
-    std::vector<double> v_;
-  };
+  // Per block and group, the partial sums of one per-particle vector, [block][group][xyz].
+  BlockPartials partials_;
 
   /// Sums a[i] (b[i], c[i]) of each group's members into out[g]; fixed order, one pass for all groups.
   void sum_by_group(const Particles& p, const double* a, const double* b, const double* c, const double* w,
@@ -112,7 +95,6 @@ class Groups {
 
   std::vector<int> mode_;
   std::vector<double> vx_, vy_, vz_;
-  Partials partials_;
   std::vector<Vec3> sums_;
 };
 

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <string>
 
+#include "core/block_sums.hpp"
 #include "core/bond_list.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
@@ -539,14 +540,23 @@ double pd_elastic_energy(const std::vector<PdLpsConstants>& lps, const PdGrains&
   const unsigned char* broken = bonds.broken.data();
   const double *x = nodes.x.data(), *y = nodes.y.data(), *z = nodes.z.data();
   const double *volume = nodes.volume.data(), *m = nodes.weighted_volume.data(), *theta = nodes.theta.data();
-  double energy = 0.0;
-  DEBRIS_KERNEL_SUM(energy)
-  for (int i = 0; i < n; ++i) {
-    if (offset[i] == offset[i + 1]) continue;
-    energy += volume[i] * node_energy_density(i, offset, partner, length0, broken, table[material[grain[i]]], x, y, z,
-                                              volume, m, theta);
+  // Fixed-order blocks of nodes (core/block_sums.hpp): the same bits on any thread count.
+  const int blocks = sum_blocks(n);
+  BlockPartials partials;
+  double* part = partials.reserve(static_cast<std::size_t>(blocks));
+  DEBRIS_KERNEL
+  for (int b = 0; b < blocks; ++b) {
+    double energy = 0.0;
+    const int end = n - b * kSumBlock < kSumBlock ? n : (b + 1) * kSumBlock;
+    for (int i = b * kSumBlock; i < end; ++i) {
+      if (offset[i] == offset[i + 1]) continue;
+      energy += volume[i] * node_energy_density(i, offset, partner, length0, broken, table[material[grain[i]]], x, y,
+                                                z, volume, m, theta);
+    }
+    part[b] = energy;
   }
-  return energy;
+  partials.to_host(static_cast<std::size_t>(blocks));
+  return partials.add_up<1>(blocks)[0];
 }
 
 }  // namespace debris

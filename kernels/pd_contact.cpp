@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "core/block_sums.hpp"
 #include "core/exec.hpp"
 #include "core/pd_contact_list.hpp"
 #include "core/pd_nodes.hpp"
@@ -229,17 +230,26 @@ double pd_contact_elastic_energy(const PdContactTable& table, const PdNodes& nod
   const int* material = grains.material.data();
   const PdContactParams* pairs = table.pairs.data();
   const int nm = table.materials;
-  double energy = 0.0;
-  DEBRIS_KERNEL_SUM(energy)
-  for (int i = 0; i < n; ++i) {
-    for (int k = offset[i]; k < offset[i + 1]; ++k) {
-      const int j = index[k];
-      const double d = norm(Vec3{x[j] - x[i], y[j] - y[i], z[j] - z[i]});
-      // A full list holds each pair twice.
-      energy += 0.5 * pd_contact_energy(pairs[material[grain[i]] * nm + material[grain[j]]], d, volume[i], volume[j]);
+  // Fixed-order blocks of rows (core/block_sums.hpp): the same bits on any thread count.
+  const int blocks = sum_blocks(n);
+  BlockPartials partials;
+  double* part = partials.reserve(static_cast<std::size_t>(blocks));
+  DEBRIS_KERNEL
+  for (int b = 0; b < blocks; ++b) {
+    double energy = 0.0;
+    const int end = n - b * kSumBlock < kSumBlock ? n : (b + 1) * kSumBlock;
+    for (int i = b * kSumBlock; i < end; ++i) {
+      for (int k = offset[i]; k < offset[i + 1]; ++k) {
+        const int j = index[k];
+        const double d = norm(Vec3{x[j] - x[i], y[j] - y[i], z[j] - z[i]});
+        // A full list holds each pair twice.
+        energy += 0.5 * pd_contact_energy(pairs[material[grain[i]] * nm + material[grain[j]]], d, volume[i], volume[j]);
+      }
     }
+    part[b] = energy;
   }
-  return energy;
+  partials.to_host(static_cast<std::size_t>(blocks));
+  return partials.add_up<1>(blocks)[0];
 }
 
 }  // namespace debris

@@ -22,6 +22,10 @@
 
 namespace debris {
 
+namespace h5 {
+class File;
+}
+
 struct PeridemSettings {
   double time_step = 0;                   // s, > 0
   bool allow_unstable_time_step = false;  // the user insists on a step above the stable one
@@ -148,6 +152,8 @@ class PeridemSimulation {
  private:
   struct Restored {};
   explicit PeridemSimulation(Restored) {}
+  /// from_checkpoint() once the file is known to be a checkpoint of a format this version reads.
+  static PeridemSimulation restore(const h5::File& f, std::string* input_echo);
   void compute_forces();
   void rebuild_contacts();
   void refuse_grains_in_walls() const;

@@ -12,6 +12,7 @@
 #include <map>
 
 #include "core/error.hpp"
+#include "core/exit_status.hpp"
 #include "core/exec.hpp"
 #include "core/io/input.hpp"
 #include "core/units.hpp"
@@ -95,7 +96,7 @@ int run(const std::string& input, const std::string& output, int threads) {
   std::filesystem::create_directories(output);
   const std::string csv_path = (std::filesystem::path(output) / "restitution.csv").string();
   std::ofstream csv(csv_path);
-  if (!csv) throw input_error("output", output, "cannot create restitution.csv there");
+  if (!csv) throw output_error(csv_path, "cannot create it");
   csv << "case,bottom_radius_m,top_radius_m,materials,restitution_parameter,time_step_s,initial_speed_m_s,"
          "paper_C_R,debris_C_R,difference,rebound_height_m,contact_time_s,steps,nodes,broken_bonds,"
          "bottom_max_damage,top_max_damage,wall_seconds,mesh_h_m,horizon_m\n";
@@ -113,6 +114,7 @@ int run(const std::string& input, const std::string& output, int threads) {
         << ',' << r.bottom_max_damage << ',' << r.top_max_damage << ',' << r.wall_seconds << ',' << r.mesh_h << ','
         << k.spec.top_material.horizon << '\n';
     csv.flush();
+    if (!csv) throw output_error(csv_path, "writing a row failed (disk full?)");
     char radii[32];
     std::snprintf(radii, sizeof radii, "(%g,%g)", k.spec.bottom_radius * 1e3, k.spec.top_radius * 1e3);
     std::printf("%-16s %-9s %-7s %5.2f %8.3f %7.2f %9s %9.4f %8s %8.3g %8.3g %8.1f\n", k.name.c_str(), radii,
@@ -135,14 +137,6 @@ int main(int argc, char** argv) {
   app.add_option("-i,--input", input, "YAML input (cases)")->required();
   app.add_option("-o,--output", output, "output directory");
   app.add_option("--threads", threads, "OpenMP threads (0: default)");
-  CLI11_PARSE(app, argc, argv);
-  try {
-    return run(input, output, threads);
-  } catch (const debris::InputError& e) {
-    std::cerr << "debris_restitution: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "debris_restitution: " << e.what() << "\n";
-    return 1;
-  }
+  if (const int status = debris::parse_command_line(app, argc, argv); status >= 0) return status;
+  return debris::exit_status_of("debris_restitution", [&] { return run(input, output, threads); });
 }
