@@ -390,7 +390,8 @@ TEST(PeridemCliDefaults, DefaultInputsLoad) {
   debris::PeridemInputOptions settings_only;
   settings_only.build_system = false;
   for (const char* f : {"two_particle.yaml", "impact_wall_m1.yaml", "impact_wall_m2_top.yaml", "compressive_small.yaml",
-                        "compressive_n500.yaml"}) {
+                        "compressive_n500.yaml", "noncircular_concave.yaml", "noncircular_hexagon.yaml",
+                        "noncircular_wall.yaml"}) {
     SCOPED_TRACE(f);
     EXPECT_NO_THROW(debris::read_peridem_input(src + f, settings_only));
   }

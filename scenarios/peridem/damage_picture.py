@@ -2,10 +2,11 @@
 """Pictures of a debris_peridem trajectory coloured by damage (Z of eq 14, clipped at 1), headless.
 
     /usr/bin/python3 scenarios/peridem/damage_picture.py OUT_DIR TIME [TIME ...] [--prefix damage] [--to DIR]
-        [--zoom x0,x1,y0,y1 (mm)]
+        [--zoom=x0,x1,y0,y1 (mm)] [--vmax Z]
 
 One PNG per time, from the frame of OUT_DIR/trajectory.h5 nearest to it (skipped when none lies within
-1.5 frame intervals). Walls grey. Needs numpy, matplotlib and h5py (Debian: python3-h5py).
+1.5 frame intervals). Walls grey. --vmax sets the top of the colour scale (default 1: Z >= 1, a broken
+bond in the neighbourhood, is red; paper B's Fig 21 uses 2). Write --zoom with '=' when x0 is negative. Needs numpy, matplotlib and h5py (Debian: python3-h5py).
 """
 import argparse
 import os
@@ -14,7 +15,7 @@ import sys
 import numpy as np
 
 
-def damage_pictures(out_dir, times, prefix, to_dir, labels=None, zoom=None):
+def damage_pictures(out_dir, times, prefix, to_dir, labels=None, zoom=None, vmax=1.0):
     import h5py
     import matplotlib
     matplotlib.use("Agg")
@@ -32,17 +33,17 @@ def damage_pictures(out_dir, times, prefix, to_dir, labels=None, zoom=None):
             if abs(t[j] - m) > 1.5 * interval + 1e-12:
                 continue  # the run has not reached it
             pos = 1e3 * f["frames/%s/position" % frames[j][1]][:]
-            dmg = np.minimum(f["frames/%s/damage" % frames[j][1]][:], 1.0)
+            dmg = np.minimum(f["frames/%s/damage" % frames[j][1]][:], vmax)
             fig, ax = plt.subplots(figsize=(6, 4.2))
             ax.scatter(pos[wall, 0], pos[wall, 1], s=0.5, color="0.5")
             sc = ax.scatter(pos[~wall, 0], pos[~wall, 1], s=0.5 if len(pos) > 5000 else 4, c=dmg[~wall], cmap="jet",
-                            vmin=0, vmax=1)
+                            vmin=0, vmax=vmax)
             if zoom:
                 ax.set_xlim(zoom[0], zoom[1])
                 ax.set_ylim(zoom[2], zoom[3])
             ax.set_aspect("equal")
             label = labels[k] if labels else "t = %.4g s" % m
-            ax.set_title("%s (frame at %.4g s): damage Z, clipped at 1" % (label, t[j]), fontsize=9)
+            ax.set_title("%s (frame at %.4g s): damage Z, clipped at %g" % (label, t[j], vmax), fontsize=9)
             ax.set_xlabel("x (mm)")
             ax.set_ylabel("y (mm)")
             fig.colorbar(sc, ax=ax, shrink=0.8)
@@ -61,11 +62,12 @@ def main():
     ap.add_argument("--prefix", default="damage")
     ap.add_argument("--to", default=None)
     ap.add_argument("--zoom", default=None)
+    ap.add_argument("--vmax", type=float, default=1.0)
     args = ap.parse_args()
     to = args.to or args.out_dir
     os.makedirs(to, exist_ok=True)
     zoom = [float(x) for x in args.zoom.split(",")] if args.zoom else None
-    for png in damage_pictures(args.out_dir, args.times, args.prefix, to, zoom=zoom):
+    for png in damage_pictures(args.out_dir, args.times, args.prefix, to, zoom=zoom, vmax=args.vmax):
         print("wrote " + png)
     return 0
 
