@@ -1,5 +1,7 @@
 #include "core/exec.hpp"
 
+#include "core/thread_tuner.hpp"
+
 #include <omp.h>
 
 #include <sstream>
@@ -7,7 +9,9 @@
 namespace debris::exec {
 
 void set_threads(int n) {
-  if (n > 0) omp_set_num_threads(n);
+  if (n <= 0) return;
+  stop_tuning();  // a count set by hand is kept (core/thread_tuner.hpp)
+  omp_set_num_threads(n);
 }
 
 int threads() { return omp_get_max_threads(); }

@@ -23,6 +23,10 @@ void pd_zero_forces(PdNodes& nodes);
 /// their nodes keeps their force the pure contact reaction).
 void pd_gravity_pass(PdNodes& nodes, const PdGrains& grains, Vec3 g);
 
+/// The first force of a step in one sweep: each grain node's weight, zero on walls (the same bits as
+/// pd_zero_forces then pd_gravity_pass, one parallel region fewer per step).
+void pd_weight_forces(PdNodes& nodes, const PdGrains& grains, Vec3 g);
+
 /// One step of eq 32 in velocity form. first_step: the stored velocity is the initial v^0 and the kick is
 /// dt/2 (see above); every later step kicks by dt. Particle nodes: components whose bit is set in
 /// PdNodes::fixed (1 x, 2 y, 4 z) keep their position and have zero velocity; the others move with f / m

@@ -218,8 +218,9 @@ Groups shear_walls(Particles& p, const Box& box, Vec3 velocity) {
 struct Snapshot {
   std::map<std::int64_t, std::array<double, 9>> by_id;
 };
+// threads = 0: the count changes every few steps (1, then 2, ...), as the thread tuner may change it.
 Snapshot run_sheared(Particles p, Box box, int steps, int threads, PairPass pass = PairPass::automatic) {
-  exec::set_threads(threads);
+  exec::set_threads(threads > 0 ? threads : 1);
   const Groups g = shear_walls(p, box, {0.02, 0, 0});
   DemSettings s;
   s.material = table4(0.9);
@@ -227,7 +228,14 @@ Snapshot run_sheared(Particles p, Box box, int steps, int threads, PairPass pass
   s.global_damping = 0.05;
   s.pair_pass = pass;
   DemSimulation sim(box, std::move(p), g, s);
-  sim.run(steps);
+  if (threads > 0) {
+    sim.run(steps);
+  } else {
+    for (int k = 0; k < steps; ++k) {
+      exec::set_threads(1 + (k / 7) % 2);
+      sim.step();
+    }
+  }
   Snapshot snap;
   const Particles& q = sim.particles();
   for (std::size_t i = 0; i < q.size(); ++i)
@@ -244,6 +252,19 @@ TEST(DemEngine, SameResultsWithOneAndTwoThreads) {
   for (PairPass pass : {PairPass::full, PairPass::half}) {
     const Snapshot a = run_sheared(lat.particles, box, 400, 1, pass);
     const Snapshot b = run_sheared(lat.particles, box, 400, 2, pass);
+    for (const auto& [id, va] : a.by_id)
+      for (int k = 0; k < 9; ++k)
+        ASSERT_EQ(va[k], b.by_id.at(id)[k]) << "id " << id << " component " << k << " pass " << int(pass);
+  }
+}
+
+// The thread tuner changes the count between steps while a run goes on: the same bits as one thread.
+TEST(DemEngine, ThreadCountChangedBetweenStepsGivesTheSameBits) {
+  Lattice lat = make_lattice(fcc_spec({4, 3, 3}, 0.04, 1.0));
+  Box box(lat.box.lo(), lat.box.hi(), {true, false, true});
+  for (PairPass pass : {PairPass::full, PairPass::half}) {
+    const Snapshot a = run_sheared(lat.particles, box, 400, 1, pass);
+    const Snapshot b = run_sheared(lat.particles, box, 400, 0, pass);
     for (const auto& [id, va] : a.by_id)
       for (int k = 0; k < 9; ++k)
         ASSERT_EQ(va[k], b.by_id.at(id)[k]) << "id " << id << " component " << k << " pass " << int(pass);

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "core/error.hpp"
+#include "core/exec.hpp"
 #include "core/io/hdf5_file.hpp"
 #include "core/io/node_trajectory_writer.hpp"
 #include "scenarios/common/peridem_input.hpp"
@@ -102,6 +103,25 @@ void expect_restart_bit_for_bit(const std::string& damping) {
   ASSERT_GT(straight.contact_rebuilds(), rebuilds_at_checkpoint + 3) << "the test needs rebuilds after the checkpoint";
   ASSERT_GT(straight.broken_bonds(), first.broken_bonds()) << "and bonds breaking after it";
   expect_identical(straight, resumed);
+}
+
+// The thread tuner (core/thread_tuner.hpp) changes the thread count between steps while a run goes on: a run
+// whose count changes every few steps is bit for bit the run on one thread, bonds breaking and lists rebuilt.
+TEST(PeridemThreads, CountChangedBetweenStepsGivesTheSameBits) {
+  const int saved = exec::threads();
+  const fs::path dir = scratch("threads");
+  exec::set_threads(1);
+  PeridemSimulation fixed = make("node_pairs", dir);
+  fixed.run(600);
+  PeridemSimulation changing = make("node_pairs", dir);
+  for (long k = 0; k < 600; ++k) {
+    exec::set_threads(1 + static_cast<int>((k / 7) % 2));
+    changing.step();
+  }
+  exec::set_threads(saved);
+  ASSERT_GT(fixed.broken_bonds(), 0);
+  ASSERT_GT(fixed.contact_rebuilds(), 2);
+  expect_identical(fixed, changing);
 }
 
 TEST(PeridemRestart, BitForBitWithBrokenBondsGrainCentreDamping) { expect_restart_bit_for_bit("grain_centres"); }

@@ -17,6 +17,7 @@
 #include <optional>
 #include <sstream>
 
+#include "core/thread_tuner.hpp"
 #include "core/error.hpp"
 #include "core/exit_status.hpp"
 #include "core/exec.hpp"
@@ -202,8 +203,8 @@ int run(const Options& opt) {
   const std::string text = read_input_file(opt.input);
   Config cfg = read_config(text, opt.input);
   if (!opt.output.empty()) cfg.directory = opt.output;
-  exec::set_threads(opt.threads > 0 ? opt.threads : cfg.threads);
-  std::cout << exec::startup_report() << "\n";
+  const exec::ThreadRequest threads = exec::request_threads(opt.threads, cfg.threads);
+  std::cout << exec::startup_report() << "\n" << exec::describe(threads) << "\n";
 
   const fs::path dir = cfg.directory;
   fs::create_directories(dir);
@@ -281,6 +282,7 @@ int run(const Options& opt) {
             << std::setprecision(4) << "all samples: " << total
             << " s wall; summary: " << (dir / "summary.csv").string() << "\n";
   if (cfg.plot) std::cout << plot_volume_fraction(dir, cfg.d0s, cfg.scalings) << "\n";
+  if (const exec::ThreadTuner* tuner = exec::process_tuner()) std::cout << tuner->summary() << "\n";
   return 0;
 }
 

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/thread_tuner.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "kernels/integrate.hpp"
@@ -160,6 +161,7 @@ double DemSimulation::bytes_per_particle() const {
 }
 
 void DemSimulation::step() {
+  const exec::TunedStep tuned;  // times the step for the thread tuner, when the count is tuned
   auto t0 = Clock::now();
   groups_.kick_rigid(dt_);
   integrate_semi_implicit_euler(p_, groups_.view(), dt_);

@@ -7,6 +7,7 @@
 #include <random>
 #include <sstream>
 
+#include "core/thread_tuner.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "kernels/pd_bond_passes.hpp"
@@ -228,8 +229,7 @@ void PeridemSimulation::rebuild_contacts() {
 
 void PeridemSimulation::compute_forces() {
   auto t0 = Clock::now();
-  pd_zero_forces(nodes_);
-  pd_gravity_pass(nodes_, grains_, settings_.gravity);
+  pd_weight_forces(nodes_, grains_, settings_.gravity);
   times_.other += seconds_since(t0);
   t0 = Clock::now();
   const long broke = pd_bond_step(lps_, grains_, bonds_, nodes_);
@@ -250,6 +250,7 @@ void PeridemSimulation::compute_forces() {
 }
 
 void PeridemSimulation::step() {
+  const exec::TunedStep tuned;  // times the step for the thread tuner, when the count is tuned
   const auto t0 = Clock::now();
   pd_integrate(nodes_, grains_, settings_.time_step, step_ == 0);
   times_.integration += seconds_since(t0);

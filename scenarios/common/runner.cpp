@@ -125,8 +125,12 @@ int run_plan(RunPlan& plan, const std::string& program, const RunOptions& opt, C
     write_outputs(last_step == first_step);
     if (plan.restored) begin_stage(first_step);
     Progress progress(first_step, last_step, std::cout, plan.progress_seconds);
+    exec::ThreadTuner* tuner = exec::process_tuner();  // the simulations' steps feed it (exec::TunedStep)
     while (model.step_count() < last_step) {
       model.step();
+      if (tuner)
+        for (const std::string& m : tuner->take_messages())
+          std::cout << m << ", from step " << model.step_count() << std::endl;
       const long step = model.step_count();
       const bool final_step = step == last_step;
       if (final_step || due(plan.thermo_every, step) || model.frame_due(step) || due(plan.checkpoint_every, step) ||
@@ -141,6 +145,7 @@ int run_plan(RunPlan& plan, const std::string& program, const RunOptions& opt, C
 
     const std::string report = model.closing_report();
     if (!report.empty()) std::cout << report << "\n";
+    if (tuner) std::cout << tuner->summary() << "\n";
 
     // The pass table: set-up, each pass while stepping, output, and the rest (checks, stage changes, the
     // loop itself), so the shares add up to the total.

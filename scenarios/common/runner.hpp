@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/error.hpp"  // kExitInput, kExitUnfinished
+#include "core/thread_tuner.hpp"
 #include "scenarios/common/stages.hpp"
 
 namespace debris {
@@ -92,6 +93,7 @@ struct RunPlan {
   long thermo_every = 100;      // thermo row, terminal line
   long checkpoint_every = 0;    // 0: at the end only
   double progress_seconds = 10;
+  exec::ThreadRequest threads;  // fixed by the user, or tuned while stepping (core/thread_tuner.hpp)
 };
 
 /// The output fields every executable's output settings share (directory, thermo_every, checkpoint_every,

@@ -225,8 +225,8 @@ RunPlan prepare(const RunOptions& opt) {
   const InputSource in = input_source(opt, echo);
   DemRunConfig cfg = read_dem_input_text(in.text, in.name, in.base_directory);
   if (!opt.output.empty()) cfg.output.directory = opt.output;
-  exec::set_threads(opt.threads > 0 ? opt.threads : cfg.threads);
-  std::cout << exec::startup_report() << "\n";
+  const exec::ThreadRequest threads = exec::request_threads(opt.threads, cfg.threads);
+  std::cout << exec::startup_report() << "\n" << exec::describe(threads) << "\n";
 
   // The system is validated here (radii, time step against eq 6, ...) before any file is opened.
   DemSimulation sim = restored ? std::move(*restored)
@@ -239,6 +239,7 @@ RunPlan prepare(const RunOptions& opt) {
           throw input_error("stages.groups.name", gc.motion.name, "is not a group of the checkpoint's system");
   RunPlan plan;
   plan.restored = restored.has_value();
+  plan.threads = threads;
   plan.input_text = in.text;
   plan.steps = cfg.steps;
   plan.stages = cfg.stages;

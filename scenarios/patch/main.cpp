@@ -15,6 +15,7 @@
 #include <memory>
 #include <sstream>
 
+#include "core/thread_tuner.hpp"
 #include "core/error.hpp"
 #include "core/exit_status.hpp"
 #include "core/io/input.hpp"
@@ -75,8 +76,8 @@ int run(const Options& opt) {
   const std::string text = read_input_file(opt.input);
   PatchConfig cfg = read_patch_input_text(text, opt.input, fs::path(opt.input).parent_path().string());
   if (!opt.output.empty()) cfg.output_directory = opt.output;
-  exec::set_threads(opt.threads > 0 ? opt.threads : cfg.threads);
-  std::cout << exec::startup_report() << std::endl;
+  const exec::ThreadRequest threads = exec::request_threads(opt.threads, cfg.threads);
+  std::cout << exec::startup_report() << "\n" << exec::describe(threads) << std::endl;
 
   // Every sample is built (amorphous ones: checked) once before anything runs, so that a bad case stops the
   // sweep before it starts. The facts of an amorphous sample are filled in when it is made.
@@ -166,6 +167,7 @@ int run(const Options& opt) {
       if (!r.ok) std::cerr << "  case " << r.c.index << " (" << describe_case(r.c) << "): " << r.error << "\n";
     return kExitUnfinished;
   }
+  if (const exec::ThreadTuner* tuner = exec::process_tuner()) std::cout << tuner->summary() << "\n";
   return 0;
 }
 

@@ -261,8 +261,8 @@ RunPlan prepare(const RunOptions& opt) {
   io.build_system = !restored;  // on restart the system comes from the checkpoint
   io.output_directory = opt.output;
   PeridemRunConfig cfg = read_peridem_input_text(in.text, in.name, in.base_directory, io);
-  exec::set_threads(opt.threads > 0 ? opt.threads : cfg.threads);
-  std::cout << exec::startup_report() << "\n";
+  const exec::ThreadRequest threads = exec::request_threads(opt.threads, cfg.threads);
+  std::cout << exec::startup_report() << "\n" << exec::describe(threads) << "\n";
 
   // The system is validated here (time step against the stable one, ...) before any output is opened.
   std::optional<PeridemSimulation> built;
@@ -274,6 +274,7 @@ RunPlan prepare(const RunOptions& opt) {
   std::cout << sim.summary() << "\n";
   RunPlan plan;
   plan.restored = restored.has_value();
+  plan.threads = threads;
   plan.input_text = in.text;
   plan.steps = cfg.steps;
   plan.stages = cfg.stages;

@@ -11,6 +11,7 @@
 #include <iostream>
 #include <map>
 
+#include "core/thread_tuner.hpp"
 #include "core/error.hpp"
 #include "core/exit_status.hpp"
 #include "core/exec.hpp"
@@ -92,7 +93,8 @@ int run(const std::string& input, const std::string& output, int threads) {
   root.reject_unknown_keys();
   if (cases.empty()) throw input_error("cases", "(empty)", "list at least one case");
 
-  if (threads > 0) exec::set_threads(threads);
+  const exec::ThreadRequest request = exec::request_threads(threads, 0);
+  std::cout << exec::describe(request) << "\n";
   std::filesystem::create_directories(output);
   const std::string csv_path = (std::filesystem::path(output) / "restitution.csv").string();
   std::ofstream csv(csv_path);
@@ -124,6 +126,7 @@ int run(const std::string& input, const std::string& output, int threads) {
                 r.top_max_damage, r.wall_seconds);
     std::fflush(stdout);
   }
+  if (const exec::ThreadTuner* tuner = exec::process_tuner()) std::cout << tuner->summary() << "\n";
   std::cout << "wrote " << csv_path << "\n";
   return 0;
 }

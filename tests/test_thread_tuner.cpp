@@ -1,0 +1,120 @@
+// The thread tuner against a model machine whose step time on each thread count is known (and changes
+// when "load" comes): it must find the fastest count, prefer fewer threads when the difference is noise,
+// follow the load both ways, and cost little while it probes.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <functional>
+#include <map>
+
+#include "core/exec.hpp"
+#include "core/thread_tuner.hpp"
+
+namespace debris::exec {
+namespace {
+
+// Runs `steps` steps on the model machine (seconds per step as a function of the count and the step) and
+// returns the total time; the tuner decides the count of each step.
+struct Outcome {
+  double seconds = 0;
+  std::map<int, long> steps_on;
+};
+Outcome run(ThreadTuner& tuner, long first, long steps, const std::function<double(int threads, long step)>& machine) {
+  Outcome r;
+  for (long k = first; k < first + steps; ++k) {
+    const double t = machine(tuner.threads(), k);
+    r.seconds += t;
+    ++r.steps_on[tuner.threads()];
+    tuner.step_done(t);
+  }
+  return r;
+}
+
+class ThreadTunerTest : public ::testing::Test {
+ protected:
+  void TearDown() override { set_threads(saved_); }
+  int saved_ = threads();
+};
+
+TEST_F(ThreadTunerTest, CandidatesArePowersOfTwoUpToTheMost) {
+  EXPECT_EQ(ThreadTuner(1, 1).candidates(), (std::vector<int>{1}));
+  EXPECT_EQ(ThreadTuner(2, 1).candidates(), (std::vector<int>{1, 2}));
+  EXPECT_EQ(ThreadTuner(6, 1).candidates(), (std::vector<int>{1, 2, 4, 6}));
+  EXPECT_EQ(ThreadTuner(16, 16).candidates(), (std::vector<int>{1, 2, 4, 8, 16}));
+}
+
+TEST_F(ThreadTunerTest, FindsTheFastestCountAndSetsIt) {
+  // A quiet 8-core machine where 4 threads are fastest (memory bound beyond).
+  const std::map<int, double> per_step{{1, 4e-3}, {2, 2.2e-3}, {4, 1.3e-3}, {8, 1.4e-3}};
+  ThreadTuner tuner(8, 1, 0.01);
+  const Outcome r = run(tuner, 0, 20000, [&](int t, long) { return per_step.at(t); });
+  EXPECT_EQ(tuner.threads(), 4);
+  EXPECT_EQ(threads(), 4);  // the OpenMP count follows
+  // Probing costs little: within 5% of always running on 4.
+  EXPECT_LT(r.seconds, 1.05 * 20000 * 1.3e-3);
+  const auto messages = tuner.take_messages();
+  ASSERT_EQ(messages.size(), 1u);  // the first choice; later probes keep it and say nothing
+  EXPECT_NE(messages[0].find("threads: 4 of up to 8"), std::string::npos) << messages[0];
+  EXPECT_TRUE(tuner.take_messages().empty());
+}
+
+TEST_F(ThreadTunerTest, TakesFewerThreadsWhenTheDifferenceIsNoise) {
+  ThreadTuner tuner(2, 2, 0.01);
+  run(tuner, 0, 2000, [](int t, long) { return t == 1 ? 1.00e-3 : 0.99e-3; });
+  EXPECT_EQ(tuner.threads(), 1);
+}
+
+TEST_F(ThreadTunerTest, FollowsTheLoadBothWays) {
+  // Two cores. Quiet: 2 threads step in 0.6 ms, 1 in 1 ms. From step 10,000 to 30,000 a process beside the
+  // run takes a core: every barrier then waits for a time slice, and 2 threads step in 3 ms, 1 in 1.1 ms.
+  auto machine = [](int t, long k) {
+    const bool loaded = k >= 10000 && k < 30000;
+    if (t == 1) return loaded ? 1.1e-3 : 1.0e-3;
+    return loaded ? 3.0e-3 : 0.6e-3;
+  };
+  ThreadTuner tuner(2, 1, 0.02);
+  run(tuner, 0, 10000, machine);
+  EXPECT_EQ(tuner.threads(), 2);
+  const Outcome loaded = run(tuner, 10000, 20000, machine);
+  EXPECT_EQ(tuner.threads(), 1);
+  // The tuner noticed within a window or two, and its later probes of 2 threads cost at most a few windows.
+  EXPECT_LT(loaded.seconds, 1.10 * 20000 * 1.1e-3);
+  run(tuner, 30000, 20000, machine);
+  EXPECT_EQ(tuner.threads(), 2);
+  const std::string summary = tuner.summary();
+  EXPECT_NE(summary.find(" 1 for "), std::string::npos) << summary;
+  EXPECT_NE(summary.find(" 2 for "), std::string::npos) << summary;
+  EXPECT_NE(summary.find("2 changes"), std::string::npos) << summary;
+}
+
+TEST_F(ThreadTunerTest, ASingleCandidateNeverProbes) {
+  ThreadTuner tuner(1, 1, 0.0);
+  run(tuner, 0, 100, [](int, long) { return 1e-3; });
+  EXPECT_EQ(tuner.threads(), 1);
+  EXPECT_TRUE(tuner.take_messages().empty());
+}
+
+TEST(ThreadRequest, UserCountsWinInOrderAndOtherwiseTheCountIsTuned) {
+  const int saved = threads();
+  ThreadRequest r = request_threads(3, 2);
+  EXPECT_EQ(r.fixed, 3);
+  EXPECT_EQ(r.source, "--threads");
+  EXPECT_EQ(threads(), 3);
+  r = request_threads(0, 2);
+  EXPECT_EQ(r.fixed, 2);
+  EXPECT_EQ(r.source, "run.threads");
+  if (std::getenv("OMP_NUM_THREADS") == nullptr) {
+    r = request_threads(0, 0);
+    EXPECT_EQ(r.fixed, 0);
+    EXPECT_EQ(r.source, "tuned");
+    EXPECT_GE(r.most, 1);
+    EXPECT_NE(describe(r).find("tuned while stepping"), std::string::npos);
+    ASSERT_NE(process_tuner(), nullptr);
+    EXPECT_EQ(threads(), r.most);  // the set-up runs on all of them
+    { TunedStep step; EXPECT_EQ(threads(), 1); }  // the tuner's count from the first step on
+  }
+  set_threads(saved);
+}
+
+}  // namespace
+}  // namespace debris::exec
