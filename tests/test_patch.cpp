@@ -505,9 +505,8 @@ TEST(PatchCli, SmallSweepWritesTableCurvesAndPlots) {
   EXPECT_NE(curve.find("step,strain,eps_yy,sigma_xx,sigma_yy"), std::string::npos);
   // The values. d0 = 0.6 d_c = 90 (d_c = 150, eq 18). Elastic, nu = 0, c along y: the affine HCP lattice has
   // exactly E = 1, nu = 0 (PatchElastic tests), and the 0.01 load gives eps_yy = -0.01. Tension stopped at
-  // 0.02 strain, still rising: the uniformly stretched lattice carries E eps = 0.02 there (the closed form of
-  // c_axis_tension_peak's stretch at eps = 0.02 gives 0.0199997: its nonlinearities cancel), less what the
-  // start-up wave and the wall's drag hold back.
+  // 0.02 strain, still rising: the uniformly stretched lattice carries E eps there (the closed form of
+  // c_axis_tension_peak's stretch at eps = 0.02 gives 0.0199997: its nonlinearities cancel).
   const auto rows = debris::test::read_csv_rows(dir / "out" / "cases.csv");
   ASSERT_EQ(rows.size(), 2u) << table;
   const auto& elastic = rows[0];
@@ -522,7 +521,8 @@ TEST(PatchCli, SmallSweepWritesTableCurvesAndPlots) {
   EXPECT_NEAR(csv_number(elastic, "sigma_yy"), -0.01, 1e-4);
   EXPECT_DOUBLE_EQ(csv_number(tension, "target_strength"), 0.2);
   EXPECT_EQ(tension.at("outcome"), "max strain");
-  EXPECT_NEAR(csv_number(tension, "strength"), 0.02, 0.03 * 0.02);
+  // Measured 0.020201 at strain 0.0202 (the run's last point): E eps within 0.01%; 1% allowed.
+  EXPECT_NEAR(csv_number(tension, "strength"), 1.0 * csv_number(tension, "strain_at_peak"), 0.01 * 0.02);
   EXPECT_NEAR(csv_number(tension, "strength_over_target"), csv_number(tension, "strength") / 0.2, 1e-9);
   EXPECT_NEAR(csv_number(tension, "strain_at_peak"), 0.02, 1e-3);
   EXPECT_TRUE(fs::exists(dir / "out" / "plots.gp"));
