@@ -8,8 +8,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <map>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace debris::test {
 
@@ -62,6 +65,42 @@ inline std::string slurp(const std::filesystem::path& path) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+/// A CSV file's rows as column name -> cell text (the first line names the columns; quoted cells are kept
+/// whole, without their quotes; empty lines and lines starting with '#' are skipped).
+inline std::vector<std::map<std::string, std::string>> read_csv_rows(const std::filesystem::path& path) {
+  std::istringstream in(slurp(path));
+  auto split = [](const std::string& line) {
+    std::vector<std::string> cells(1);
+    bool quoted = false;
+    for (char c : line) {
+      if (c == '"') quoted = !quoted;
+      else if (c == ',' && !quoted) cells.emplace_back();
+      else if (c != '\r') cells.back() += c;
+    }
+    return cells;
+  };
+  std::string line;
+  std::vector<std::map<std::string, std::string>> rows;
+  if (!std::getline(in, line)) return rows;
+  const std::vector<std::string> header = split(line);
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    const std::vector<std::string> cells = split(line);
+    std::map<std::string, std::string> row;
+    for (std::size_t k = 0; k < header.size() && k < cells.size(); ++k) row[header[k]] = cells[k];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+/// The number in column `key` of a row from read_csv_rows (a test failure and NaN when it is missing).
+inline double csv_number(const std::map<std::string, std::string>& row, const std::string& key) {
+  const auto it = row.find(key);
+  EXPECT_NE(it, row.end()) << "no column " << key;
+  if (it == row.end() || it->second.empty()) return std::numeric_limits<double>::quiet_NaN();
+  return std::stod(it->second);
 }
 
 /// How many frames an XDMF trajectory lists (one <Time> per frame).

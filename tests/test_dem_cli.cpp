@@ -278,12 +278,18 @@ TEST(DemCliRestart, KilledRunLeavesReadableTrajectoryAndCheckpoint) {
   yaml = replace(yaml, "cells: [3, 3, 3]", "cells: [6, 6, 6]");
   yaml = replace(yaml, "  dump_every: 10", "  dump_every: 0\n  trajectory_every: 5\n  checkpoint_every: 20");
   const fs::path input = write(d, "long.yaml", yaml);
-  const Result r = run_dem("-i " + input.string() + " > /dev/null & pid=$!; sleep 3; kill -9 $pid; wait $pid; true");
-  (void)r;
+  // Kill it once a checkpoint (written by rename, so whole when it exists) and two trajectory frames are
+  // there, polling every 0.1 s for up to 300 s: a fixed sleep was too short on a loaded machine.
+  const std::string ckpt = (d / "out" / "checkpoint.h5").string(), xmf_path = (d / "out" / "trajectory.xmf").string();
+  const Result r = run_dem("-i " + input.string() + " > /dev/null 2>&1 & pid=$!; i=0; while [ $i -lt 3000 ]; do " +
+                           "if [ -f " + ckpt + " ] && [ \"$(grep -c '<Time Value=' " + xmf_path +
+                           " 2>/dev/null)\" -ge 2 ] 2>/dev/null; then echo ready; break; fi; sleep 0.1; i=$((i+1)); " +
+                           "done; kill -9 $pid; wait $pid; true");
+  ASSERT_NE(r.output.find("ready"), std::string::npos) << "no checkpoint and two frames within 300 s\n" << r.output;
   const std::string xmf = slurp(d / "out" / "trajectory.xmf");
   std::size_t frames = 0;
   for (auto pos = xmf.find("<Time Value="); pos != std::string::npos; pos = xmf.find("<Time Value=", pos + 1)) ++frames;
-  ASSERT_GE(frames, 2u) << "the run did not get far enough in 3 s";
+  ASSERT_GE(frames, 2u);
   debris::h5::File f((d / "out" / "trajectory.h5").string(), debris::h5::File::Mode::read_only);
   for (std::size_t k = 0; k < frames; ++k) {
     const auto pos = f.read<double>("frames/" + std::to_string(k) + "/position");

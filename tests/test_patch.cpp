@@ -1,10 +1,13 @@
 // Patch tests of the cohesive DEM (paper section 3) at small sizes: the elastic test recovers E and nu at
 // nu = 0 in both lattice orientations and the closed-form affine constants along the c axis at nu = 0.15;
-// tension at nu = 0 finds a peak (broke) in both orientations, against the target of eq 20; a sample read
+// tension at nu = 0 finds a peak (broke) in both orientations, against the target of eq 20 in the
+// close-packed plane and against the uniformly stretched lattice's closed form along c; the shear peak at
+// fixed height against the uniformly sheared lattice (above d_c); debris_patch's table values; a sample read
 // from a LAMMPS data file gives the same result as the lattice it was written from; bad inputs end with
 // messages naming the key and the value, in the library and in the debris_patch executable.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -193,6 +196,119 @@ TEST(PatchElastic, SampleThatGivesWayIsReported) {
 // ---------------------------------------------------------------------------------------------------------
 // Strength test.
 
+// Strength of an HCP lattice with c along y (close-packed layers parallel to the walls) deformed uniformly,
+// from eqs 3-5 and 7-11 written out here. Only the 3 pairs per site between neighbouring layers carry
+// sigma_yy and sigma_xy: in a layer's frame a pair is b = (rho cos phi, h, rho sin phi) with rho = a / sqrt 3,
+// h = a sqrt(2/3), phi = 30, 150, 270 degrees (the B sites over an A site; core/lattice.cpp), and the
+// B-over-A pairs are its mirror image in z. Virial stress per site: sigma_ab = 3 pairs sum f_a b_b / V,
+// V = a^3 / sqrt 2 stretched with eps_yy; f = F_N n + F_T t (the pull that holds the upper site back).
+struct HcpPairLaw {
+  double a, kn, kt, de, df, fmt;
+  HcpPairLaw(const CohesiveMaterial& m, double d0) : a(d0) {
+    const double r = 0.5 * d0, nu = m.poisson_ratio;
+    const double an = std::sqrt(2.0) * r * r / (1 - 2 * nu);                           // eq 15
+    const double at = std::sqrt(2.0) * r * r * (1 - 4 * nu) / ((1 - 2 * nu) * (1 + nu));  // eq 16
+    kn = an * m.youngs_modulus / d0;                                                      // eq 7
+    kt = at * m.youngs_modulus / d0;                                                      // eq 8
+    de = d0 * m.tensile_strength / m.youngs_modulus;                                      // eq 9
+    const double dc = m.critical_diameter();
+    df = d0 <= dc ? 4 * m.surface_energy / m.tensile_strength : de * std::pow(d0 / dc, -m.scaling);  // eq 10
+    fmt = at * m.shear_strength;                                                          // eq 11
+  }
+  double normal(double dn) const {  // eq 3
+    if (dn > df) return 0;
+    if (dn <= de) return kn * dn;
+    return -kn * de / (df - de) * (dn - df);
+  }
+  double cap(double dn) const { return std::min((df - dn) / df, 1.0) * fmt; }  // eq 5
+  double rho() const { return a / std::sqrt(3.0); }
+  double h() const { return a * std::sqrt(2.0 / 3.0); }
+  double site_volume() const { return a * a * a / std::sqrt(2.0); }
+};
+
+// Tension along c, in closed form. The layers stay flat and stacked (the 3 pairs of a site are 120 degrees
+// apart: their in-plane forces cancel), so the stretch is affine: b = (rho, h (1 + eps)). The tangential
+// spring of eq 4 integrates the sliding velocity h eps' sin(theta) into
+// dT = rho (asinh(h (1 + eps) / rho) - asinh(h / rho)), and is capped by eq 5, which only falls as dN grows.
+// sigma_yy rises until the pairs reach the end of the Hookean branch, dN = min(delta_e, delta_f), and falls
+// after it: that is the peak.
+double c_axis_tension_peak(const CohesiveMaterial& m, double d0) {
+  const HcpPairLaw p(m, d0);
+  const double rho = p.rho(), h = p.h();
+  const double dn = std::min(p.de, p.df), len = p.a + dn;
+  const double by = std::sqrt(len * len - rho * rho), eps = by / h - 1;
+  const double dt = rho * (std::asinh(by / rho) - std::asinh(h / rho));
+  const double ft = std::min(p.kt * dt, p.cap(dn));
+  return 3.0 / (p.site_volume() * (1 + eps)) * (p.kn * dn * by / len + ft * rho / len) * by;
+}
+
+// Shear along x at fixed height, by integration over the strain. Under shear the pairs of one layer stretch
+// unevenly and pull it along z, an A layer one way and a B layer the other, so the layers zigzag: neighbouring
+// layers are offset by (gamma h, h, +-w), with w at each step the offset that balances the z forces of the 3
+// pairs. The tangential history follows eq 4 as the pair law does (rotated into the tangent plane keeping
+// its length, then the sliding increment added, capped by eq 5). Returns the peak sigma_xy.
+double c_axis_shear_peak(const CohesiveMaterial& m, double d0) {
+  const HcpPairLaw p(m, d0);
+  const double kPi = 3.14159265358979323846, rho = p.rho(), h = p.h();
+  const double phi[3] = {kPi / 6, 5 * kPi / 6, 3 * kPi / 2};
+  Vec3 hist[3] = {};
+  struct Pairs {
+    Vec3 force[3], hist[3];
+    Vec3 b[3];
+  };
+  auto pairs = [&](double x, double z, double dx, double dz) {
+    Pairs out{};
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 b{rho * std::cos(phi[k]) + x, h, rho * std::sin(phi[k]) + z};
+      const double len = norm(b), dn = len - p.a;
+      const Vec3 n = (1.0 / len) * b;
+      out.b[k] = b;
+      if (dn > p.df) continue;  // broken: history reset, no force
+      Vec3 hk = hist[k];
+      const double h2 = norm2(hk);
+      if (h2 > 0) {
+        hk = hk - dot(hk, n) * n;
+        if (norm2(hk) > 0) hk = std::sqrt(h2 / norm2(hk)) * hk;
+      }
+      const Vec3 v{dx, 0, dz};
+      hk += v - dot(v, n) * n;
+      const double spring = p.kt * norm(hk), cap = p.cap(dn);
+      if (spring > cap) hk = (cap / spring) * hk;
+      out.hist[k] = hk;
+      out.force[k] = p.normal(dn) * n + p.kt * hk;
+    }
+    return out;
+  };
+  const int steps = 5000;
+  const double dgamma = 1.0 / steps;
+  double x = 0, z = 0, peak = 0;
+  for (int i = 1; i <= steps; ++i) {
+    const double dx = h * dgamma;
+    auto fz = [&](double dz) {
+      const Pairs q = pairs(x + dx, z + dz, dx, dz);
+      return q.force[0].z + q.force[1].z + q.force[2].z;
+    };
+    double lo = -2 * dx, hi = 2 * dx, flo = fz(lo), fhi = fz(hi);
+    for (int k = 0; k < 30 && flo * fhi > 0; ++k) {
+      lo *= 2, hi *= 2;
+      flo = fz(lo), fhi = fz(hi);
+    }
+    for (int k = 0; k < 60; ++k) {
+      const double mid = 0.5 * (lo + hi), fm = fz(mid);
+      if ((fm > 0) == (flo > 0)) lo = mid, flo = fm;
+      else hi = mid;
+    }
+    const double dz = 0.5 * (lo + hi);
+    const Pairs q = pairs(x + dx, z + dz, dx, dz);
+    for (int k = 0; k < 3; ++k) hist[k] = q.hist[k];
+    x += dx, z += dz;
+    double sxy = 0;
+    for (int k = 0; k < 3; ++k) sxy += q.force[k].x * q.b[k].y;
+    peak = std::max(peak, sxy / p.site_volume());
+  }
+  return peak;
+}
+
 // Tension at nu = 0: the lattice breaks (stress down to nothing after the peak) in both orientations. The
 // paper finds the tensile strength equal to the target at nu = 0; here that holds for the load in the
 // close-packed plane (c along z, as LAMMPS builds hcp), while with c along the load the 6 bonds to the
@@ -218,12 +334,47 @@ TEST(PatchStrength, TensionAtNuZeroBreaksNearTheTarget) {
     EXPECT_GT(r.strain_at_peak, 0.5 * target / m.youngs_modulus) << "a peak from the start-up wave, not a fracture";
     ASSERT_FALSE(r.curve.empty());
     EXPECT_DOUBLE_EQ(r.curve.front().strain, 0.0);
-    if (c == 2)
+    if (c == 2) {
       EXPECT_NEAR(r.strength / target, 1.0, 0.05) << "the paper: tensile strength = target at nu = 0";
-    else
-      EXPECT_NEAR(r.strength / target, 1.0, 0.25);
+    } else {
+      // Along c the uniformly stretched lattice's peak is known in closed form (c_axis_tension_peak: 1.172
+      // target here, above it because the 6 inter-layer pairs turn toward the load and their tangential
+      // springs add to it). What is left is dynamics: the stress wave of the start-up and the inertia and
+      // global damping of a sample pulled at 1e-5 per step, and the curve sampled every 20 steps (2e-4
+      // strain): measured 0.2344 against 0.2344 here, and 1.191 against 1.1915 target on L = 10 d0 at
+      // 0.6 d_c (scenarios/patch/RESULTS.md).
+      const double uniform = c_axis_tension_peak(m, s.d0);
+      std::printf("[ info ] c axis tension peak %.4f, uniform lattice closed form %.4f\n", r.strength, uniform);
+      EXPECT_NEAR(r.strength / uniform, 1.0, 0.01);
+    }
   }
   exec::set_threads(threads);
+}
+
+// Shear at fixed height with c along y above d_c (1.2 d_c, s = 0): the peak sigma_xy against the uniformly
+// sheared, zigzag-balanced lattice (c_axis_shear_peak: 1.41 target; the fixed height forbids the dilation
+// that shear needs, and the compressed pairs add to the tangential ones). Measured on L = 10 d0 for every
+// d0 from 1.2 to 76.8 d_c: 1.410 (scenarios/patch/RESULTS.md). Below d_c the model does not hold (0.6 d_c:
+// 1.08 measured, 1.57 modelled): pairs pass delta_e and soften before the peak, and the shear then localises
+// in one layer interface instead of staying uniform. What limits agreement above d_c is the dynamics, as
+// for tension (measured 1.410 against 1.4105 here). The run stops at 0.5 strain, past the peak (0.405).
+TEST(PatchStrength, ShearPeakAtFixedHeightMatchesTheUniformLatticeAboveDc) {
+  const int threads = exec::threads();
+  exec::set_threads(1);
+  const CohesiveMaterial m = table4(0.0);
+  const PatchSample s = small_hcp(m, 1, 6, 1.2);
+  StrengthSettings ss;
+  ss.max_strain = 0.5;
+  const StrengthResult r = run_strength_test(s, m, PatchTest::shear, ss);
+  exec::set_threads(threads);
+  const double target = target_strength(m, PatchTest::shear, s.d0), uniform = c_axis_shear_peak(m, s.d0);
+  std::printf("[ info ] shear, fixed height, nu = 0, d0 = 1.2 d_c, c along y: peak %.4f = %.3f target at strain "
+              "%.4f; uniform lattice %.4f = %.3f target; %s, %ld steps\n",
+              r.strength, r.strength / target, r.strain_at_peak, uniform, uniform / target,
+              strength_outcome_name(r.outcome), r.steps);
+  EXPECT_NEAR(r.strength / uniform, 1.0, 0.01);
+  EXPECT_NEAR(uniform / target, 1.41, 0.01);
+  EXPECT_LT(r.strain_at_peak, 0.48) << "the peak must be inside the run, not its end";
 }
 
 // Shear with the top wall free along y under a normal stress: the wall keeps the prescribed shear rate
@@ -352,6 +503,28 @@ TEST(PatchCli, SmallSweepWritesTableCurvesAndPlots) {
   EXPECT_NE(table.find("\n2,tension,hcp,y,"), std::string::npos) << table;
   const std::string curve = slurp(dir / "out" / "curves" / "case_002_tension.csv");
   EXPECT_NE(curve.find("step,strain,eps_yy,sigma_xx,sigma_yy"), std::string::npos);
+  // The values. d0 = 0.6 d_c = 90 (d_c = 150, eq 18). Elastic, nu = 0, c along y: the affine HCP lattice has
+  // exactly E = 1, nu = 0 (PatchElastic tests), and the 0.01 load gives eps_yy = -0.01. Tension stopped at
+  // 0.02 strain, still rising: the uniformly stretched lattice carries E eps there (the closed form of
+  // c_axis_tension_peak's stretch at eps = 0.02 gives 0.0199997: its nonlinearities cancel).
+  const auto rows = debris::test::read_csv_rows(dir / "out" / "cases.csv");
+  ASSERT_EQ(rows.size(), 2u) << table;
+  const auto& elastic = rows[0];
+  const auto& tension = rows[1];
+  using debris::test::csv_number;
+  EXPECT_EQ(elastic.at("status"), "ok") << table;
+  EXPECT_DOUBLE_EQ(csv_number(elastic, "d0"), 90.0);
+  EXPECT_DOUBLE_EQ(csv_number(elastic, "nu_target"), 0.0);
+  EXPECT_NEAR(csv_number(elastic, "E"), 1.0, 0.02);
+  EXPECT_NEAR(csv_number(elastic, "nu"), 0.0, 0.02);
+  EXPECT_NEAR(csv_number(elastic, "eps_yy"), -0.01, 2e-4);
+  EXPECT_NEAR(csv_number(elastic, "sigma_yy"), -0.01, 1e-4);
+  EXPECT_DOUBLE_EQ(csv_number(tension, "target_strength"), 0.2);
+  EXPECT_EQ(tension.at("outcome"), "max strain");
+  // Measured 0.020201 at strain 0.0202 (the run's last point): E eps within 0.01%; 1% allowed.
+  EXPECT_NEAR(csv_number(tension, "strength"), 1.0 * csv_number(tension, "strain_at_peak"), 0.01 * 0.02);
+  EXPECT_NEAR(csv_number(tension, "strength_over_target"), csv_number(tension, "strength") / 0.2, 1e-9);
+  EXPECT_NEAR(csv_number(tension, "strain_at_peak"), 0.02, 1e-3);
   EXPECT_TRUE(fs::exists(dir / "out" / "plots.gp"));
   // gnuplot draws the PNGs when it is installed, and the run says so either way.
   const bool drawn = r.output.find("plots drawn with gnuplot") != std::string::npos;

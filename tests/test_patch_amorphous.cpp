@@ -1,11 +1,14 @@
 // Patch tests on amorphous samples (paper section 3.2) at small sizes: the elastic test runs end to end on
-// a tiny relaxed sample and gives E and nu in a plausible range; the health check's overlap limit is a
+// a tiny relaxed sample and gives C11 and E just below the affine estimate of the sample's own pair network
+// and nu between the target and the paper's measured 0.20; the health check's overlap limit is a
 // setting (automatic: the sample's own deepest overlap plus an allowance), because relaxed samples are
 // pre-stressed with overlaps deeper than the engine's default of half a radius; debris_patch's `kind:
 // amorphous` makes the sample, caches it, and ends bad input with messages naming the key and the value.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -77,27 +80,76 @@ TEST(PatchOverlapLimit, AutomaticIsTheInitialOverlapPlusTheAllowance) {
   }
 }
 
-// E and nu of a ~300-particle sample with s = 0: the paper measures nu about 0.20 for a target of 0.15 and E
-// following the volume fraction, which at d0 = 0.6 d_c (0.85 in debris's samples) is above the HCP
-// lattice's 0.74, whose E is within 12% of the target (1.14 E measured on the 12 d0 sample of the sweep). A sample this
-// small has only about 100 particles in its interior, so its moduli scatter by tens of percent from sample to sample
-// (12 d0 samples of the d0 sweep: see scenarios/patch/RESULTS.md); the bounds take E within a factor of 2 of the target
-// and nu between 0.05 and 0.35, which an unsubtracted pre-stress, a wrong volume or a broken sample would leave.
+// The affine (Voigt) estimate of the confined moduli along y of a relaxed packing, by brute force over its
+// pairs: a uniform strain eps_yy moves a pair l n apart by eps l n_y y, which loads its normal spring (eq 7)
+// by eps l n_y^2 and its tangential one (eq 8) by the rest, so
+//   C11 = sum l^2 (k_N n_y^4 + k_T n_y^2 (1 - n_y^2)) / V,   C12 = sum l^2 (k_N - k_T) n_x^2 n_y^2 / V
+// over the pairs on the Hookean branch of eq 3 (dN <= delta_e; those past it soften and are left out, as
+// they would only lower the estimate). Relaxation of the particles away from the affine positions can only
+// lower the stiffness of a harmonic network, so the measured C11 lies below this.
+struct AffineModuli {
+  double c11, c12;
+  long pairs;
+};
+AffineModuli affine_confined_moduli(const Box& box, const Particles& p, const CohesiveMaterial& m) {
+  const double nu = m.poisson_ratio, E = m.youngs_modulus;
+  const Vec3 len = box.length();
+  double c11 = 0, c12 = 0;
+  long pairs = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (std::size_t j = i + 1; j < p.size(); ++j) {
+      double d[3] = {p.x[i] - p.x[j], p.y[i] - p.y[j], p.z[i] - p.z[j]};
+      const double l3[3] = {len.x, len.y, len.z};
+      for (int a = 0; a < 3; ++a) d[a] -= l3[a] * std::round(d[a] / l3[a]);  // minimum image, periodic box
+      const double l = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      const double ri = p.radius[i], rj = p.radius[j], r_eff = std::min(ri, rj);
+      if (l - ri - rj > (ri + rj) * m.tensile_strength / E) continue;  // beyond delta_e (eq 9)
+      const double an = std::sqrt(2.0) * r_eff * r_eff / (1 - 2 * nu);                           // eq 15
+      const double at = std::sqrt(2.0) * r_eff * r_eff * (1 - 4 * nu) / ((1 - 2 * nu) * (1 + nu));  // eq 16
+      const double kn = an * E / (ri + rj), kt = at * E / (ri + rj);                                 // eqs 7-8
+      const double nx = d[0] / l, ny = d[1] / l;
+      c11 += l * l * (kn * ny * ny * ny * ny + kt * ny * ny * (1 - ny * ny));
+      c12 += l * l * (kn - kt) * nx * nx * ny * ny;
+      ++pairs;
+    }
+  const double volume = len.x * len.y * len.z;
+  return {c11 / volume, c12 / volume, pairs};
+}
+
+// E and nu of a ~300-particle sample with s = 0, nu = 0.15. The paper gives no number for E (Fig 8 only)
+// but explains it: E follows the packing's contacts. So C11 is compared with the affine estimate of this
+// very sample's pair network (affine_confined_moduli), an upper bound that non-affine relaxation lowers; the
+// sample is well connected (about 14 Hookean pairs per particle, far above the 6 of a rigid packing), so it
+// lowers it little: measured C11 = 1.201 against 1.247 (0.963), E = 1.129 against 1.181. The bound is taken
+// 2% loose because the estimate covers the whole periodic sample and the measure its interior. nu: eqs
+// 15-16 make the affine nu exactly the target 0.15 (1.500 here), and relaxation raises it: the paper
+// measures about 0.20 on its 100 d0 samples, debris 0.155-0.173 on 12 d0 ones (scenarios/patch/RESULTS.md);
+// this one gives 0.1586. The window is the target less 0.02 up to the paper's value plus 0.03 for the
+// scatter of so small a sample.
 TEST(PatchAmorphous, ElasticTestOnATinySampleGivesPlausibleEAndNu) {
   const PatchSample s = tiny_patch();
   OneThread one;
   EXPECT_GT(s.volume_fraction, 0.8);
   const ElasticResult r = run_elastic_test(s, tiny_spec().material, ElasticSettings{});
-  EXPECT_TRUE(std::isfinite(r.moduli.E) && std::isfinite(r.moduli.nu));
-  EXPECT_GT(r.moduli.E, 0.5);
-  EXPECT_LT(r.moduli.E, 2.0);
-  EXPECT_GT(r.moduli.nu, 0.05);
-  EXPECT_LT(r.moduli.nu, 0.35);
   EXPECT_LT(r.eps, 0.0);  // compressed
   // The bulk starts pre-stressed (its stress, not the box's, is far from the 1e-14 E the relaxation reached);
   // the moduli are taken from the stress change.
   EXPECT_GT(std::max({std::abs(r.sigma0.xx), std::abs(r.sigma0.yy), std::abs(r.sigma0.zz)}), 1e-5);
-  EXPECT_NEAR(r.c11, (r.sigma.yy - r.sigma0.yy) / r.eps, 1e-12);
+  const AmorphousSample& a = tiny_sample();
+  const AffineModuli aff = affine_confined_moduli(a.box, a.particles, tiny_spec().material);
+  const IsotropicModuli affine = isotropic_from_stiffness(aff.c11, aff.c12);
+  std::printf("[ info ] tiny amorphous sample: C11 = %.4f (affine %.4f, ratio %.3f), C12 = %.4f (affine %.4f), E = %.4f "
+              "(affine %.4f), nu = %.4f (affine %.4f, paper ~0.20), %ld Hookean pairs for %zu particles\n",
+              r.c11, aff.c11, r.c11 / aff.c11, r.c12, aff.c12, r.moduli.E, affine.E, r.moduli.nu, affine.nu, aff.pairs,
+              a.particles.size());
+  EXPECT_NEAR(affine.nu, 0.15, 0.01) << "eqs 15-16: the affine network has the target nu";
+  EXPECT_GT(aff.pairs, 10 * static_cast<long>(a.particles.size()) / 2) << "a well-connected packing";
+  EXPECT_LT(r.c11, 1.02 * aff.c11);
+  EXPECT_GT(r.c11, 0.85 * aff.c11);
+  EXPECT_LT(r.moduli.E, 1.02 * affine.E);
+  EXPECT_GT(r.moduli.E, 0.85 * affine.E);
+  EXPECT_GT(r.moduli.nu, 0.15 - 0.02);
+  EXPECT_LT(r.moduli.nu, 0.20 + 0.03);
 }
 
 TEST(PatchAmorphous, OverlapLimitIsASettingAndAutomaticFitsRelaxedSamples) {

@@ -2,6 +2,7 @@
 // damping and integrator together against the paper's Table 2.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 
 #include "core/error.hpp"
@@ -46,6 +47,25 @@ TEST(PdRestitution, ShortcutEqualsFullDropAndRise) {
   const TwoParticleDropResult full = run_two_particle_drop(d);
   EXPECT_NEAR(shortcut.restitution_coefficient, full.restitution_coefficient, 2e-3);
   EXPECT_GT(full.steps, 5 * shortcut.steps);
+}
+
+// Table 3, test 9 with eps = 0.95 (the one mixed row of that table in ctest; about as fast as a Table 2
+// row): the top M1 grain dropped on a fixed M2 grain (Table 1: K = 2 GPa, G = 1.2 GPa, G_c = 500 J/m^2),
+// both 1 mm, at the paper's 0.1 us. The paper's C_R is 0.925; measured 0.9230 (README.md), so the Table 2
+// tolerance of 0.01 holds here too, and the elastic row gives 1 within its 0.3-0.5% ringing loss.
+TEST(PdRestitution, Table3Test9MixedMaterialsRow) {
+  for (double eps : {1.0, 0.95}) {
+    TwoParticleDrop d = table2_case(eps);
+    d.bottom_material.bulk_modulus = 2e9;
+    d.bottom_material.shear_modulus = 1.2e9;
+    d.bottom_material.fracture_energy = 500;
+    d.time_step = 1e-7;
+    const TwoParticleDropResult r = run_two_particle_drop(d);
+    std::printf("[ info ] Table 3 test 9, eps = %.2f: C_R = %.4f (paper %.3f)\n", eps, r.restitution_coefficient,
+                eps == 1.0 ? 1.0 : 0.925);
+    EXPECT_NEAR(r.restitution_coefficient, eps == 1.0 ? 1.0 : 0.925, 0.01) << "eps " << eps;
+    EXPECT_EQ(r.broken_bonds, 0);
+  }
 }
 
 // Section 4.1, "Fracture simulations": the top grain hits the fixed one at v0; the damage of eq 14 near the

@@ -32,8 +32,9 @@ Particles frame(int k) {
     const double d = static_cast<double>(id);
     // -d/3 needs all 17 digits, so a reader that loses precision shows up.
     const std::size_t i = p.add(id, 1 + static_cast<int>(id % 2), 0.5 * d + k, -d / 3.0, 0.125 * k, 0.1 + d / 1000.0);
-    p.vx[i] = 1.0, p.vy[i] = -d, p.vz[i] = 0.0;
-    p.fx[i] = 0.0, p.fy[i] = 0.0, p.fz[i] = -9.81 * d;
+    // Every component distinct per particle and frame, some needing all 17 digits.
+    p.vx[i] = 1.0 + k, p.vy[i] = -d, p.vz[i] = d / 9.0;
+    p.fx[i] = 1e-3 * d + k, p.fy[i] = -d / 11.0, p.fz[i] = -9.81 * d;
     p.group[i] = id < 10 ? 0 : -1;
     p.wx[i] = d / 7.0, p.wy[i] = -0.5, p.wz[i] = 1e-3 * k;
     p.ix[i] = static_cast<int>(id % 3) - 1, p.iy[i] = 0, p.iz[i] = k;
@@ -50,11 +51,15 @@ std::string expected_frame(const Particles& p) {
   std::vector<std::size_t> order(p.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::sort(order.begin(), order.end(), [&p](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
-  std::string ids, pos, rad, label, omega, image;
+  std::string ids, pos, rad, label, omega, image, type, group, vel, force;
   for (std::size_t i : order) {
     const std::string sep = ids.empty() ? "" : ", ";
     ids += sep + std::to_string(p.id[i]);
     pos += sep + "[" + num(p.x[i]) + ", " + num(p.y[i]) + ", " + num(p.z[i]) + "]";
+    type += sep + std::to_string(p.type[i]);
+    group += sep + std::to_string(p.group[i]);
+    vel += sep + "[" + num(p.vx[i]) + ", " + num(p.vy[i]) + ", " + num(p.vz[i]) + "]";
+    force += sep + "[" + num(p.fx[i]) + ", " + num(p.fy[i]) + ", " + num(p.fz[i]) + "]";
     rad += sep + num(p.radius[i]);
     label += sep + std::to_string(p.label[i]);
     omega += sep + "[" + num(p.wx[i]) + ", " + num(p.wy[i]) + ", " + num(p.wz[i]) + "]";
@@ -62,7 +67,8 @@ std::string expected_frame(const Particles& p) {
   }
   return "{\"points\": " + std::to_string(p.size()) + ", \"id\": [" + ids + "], \"position\": [" + pos +
          "], \"radius\": [" + rad + "], \"label\": [" + label + "], \"angular_velocity\": [" + omega +
-         "], \"image\": [" + image + "]}";
+         "], \"image\": [" + image + "], \"type\": [" + type + "], \"group\": [" + group + "], \"velocity\": [" +
+         vel + "], \"force\": [" + force + "]}";
 }
 
 }  // namespace
