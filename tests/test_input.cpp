@@ -277,6 +277,18 @@ TEST(InputLoad, SyntaxErrorReportsLine) {
   EXPECT_TRUE(contains(indent, "line 2")) << indent;
 }
 
+// yaml-cpp 0.7 loops for ever (allocating a null document per turn) on a document that starts with a ','
+// (found by tests/fuzz in all five executables' inputs): the reader must call it a syntax error at once.
+TEST(InputLoad, StrayCommaIsASyntaxErrorNotAHang) {
+  for (const char* text : {",", ", x", "# comment\n, 38.4, 76.8]\n", "a: 1\n---\n,\n"}) {
+    const std::string msg = error_of([&] { InputNode::load_string(text, "comma.yaml"); });
+    EXPECT_TRUE(contains(msg, "comma.yaml")) << msg;
+    EXPECT_TRUE(contains(msg, "YAML syntax error at line")) << msg;
+  }
+  const std::string two = error_of([] { InputNode::load_string("a: 1\n---\nb: 2\n", "two.yaml"); });
+  EXPECT_TRUE(contains(two, "holds 2 YAML documents")) << two;
+}
+
 TEST(InputLoad, DuplicateKeyAndBadTopLevel) {
   std::string msg = error_of([] { InputNode::load_string("a: 1\nb: 2\na: 3\n"); });
   EXPECT_TRUE(contains(msg, "'a' = 3: key given twice")) << msg;

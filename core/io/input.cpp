@@ -1,5 +1,6 @@
 #include "core/io/input.hpp"
 
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <iterator>
 #include <map>
 #include <set>
+#include <sstream>
 
 #include "core/error.hpp"
 
@@ -131,6 +133,42 @@ void check_keys(const YAML::Node& node, const std::string& path, const std::stri
   }
 }
 
+// Walks the documents of `yaml` without building them and returns how many there are. yaml-cpp 0.7 (Debian
+// 12) loops for ever, one null document per turn, on some malformed text such as a lone ',' (its issue 1040,
+// fixed upstream in 2024): the parser reports a document and consumes nothing. Such a document starts where
+// the previous one did; it is reported as the syntax error it is instead of being read again.
+class DocumentCounter final : public YAML::EventHandler {
+ public:
+  void OnDocumentStart(const YAML::Mark& mark) override {
+    if (count_ > 0 && mark.pos == start_.pos)
+      throw YAML::ParserException(mark, "unexpected token (the parser cannot go past it)");
+    start_ = mark;
+    ++count_;
+  }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+  std::size_t count() const { return count_; }
+
+ private:
+  std::size_t count_ = 0;
+  YAML::Mark start_;
+};
+
+std::size_t count_documents(const std::string& yaml) {
+  std::istringstream in(yaml);
+  YAML::Parser parser(in);
+  DocumentCounter counter;
+  while (parser.HandleNextDocument(counter)) {
+  }
+  return counter.count();
+}
+
 }  // namespace
 
 // ---- loading ----------------------------------------------------------------------------------------
@@ -138,6 +176,9 @@ void check_keys(const YAML::Node& node, const std::string& path, const std::stri
 InputNode InputNode::load_string(const std::string& yaml, const std::string& name) {
   std::vector<YAML::Node> documents;
   try {
+    const std::size_t count = count_documents(yaml);  // first, so that LoadAll cannot loop
+    if (count > 1)
+      throw input_error("input file", name, "holds " + std::to_string(count) + " YAML documents ('---'); expected one");
     documents = YAML::LoadAll(yaml);
   } catch (const YAML::Exception& e) {
     const std::string location =
@@ -146,9 +187,6 @@ InputNode InputNode::load_string(const std::string& yaml, const std::string& nam
                                std::to_string(e.mark.column + 1);
     throw input_error("input file", name, "YAML syntax error" + location + ": " + e.msg);
   }
-  if (documents.size() > 1)
-    throw input_error("input file", name,
-                      "holds " + std::to_string(documents.size()) + " YAML documents ('---'); expected one");
   YAML::Node root = documents.empty() ? YAML::Node(YAML::NodeType::Map) : documents.front();
   if (root.IsNull()) root = YAML::Node(YAML::NodeType::Map);  // an empty file: every key takes its default
   if (!root.IsMap())

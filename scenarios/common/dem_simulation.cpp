@@ -1,3 +1,4 @@
+#include "core/thread_tuner.hpp"
 #include "scenarios/common/dem_simulation.hpp"
 
 #include <algorithm>
@@ -6,7 +7,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "core/thread_tuner.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "kernels/integrate.hpp"

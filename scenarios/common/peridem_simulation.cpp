@@ -1,3 +1,4 @@
+#include "core/thread_tuner.hpp"
 #include "scenarios/common/peridem_simulation.hpp"
 
 #include <algorithm>
@@ -7,7 +8,6 @@
 #include <random>
 #include <sstream>
 
-#include "core/thread_tuner.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "kernels/pd_bond_passes.hpp"

@@ -15,12 +15,12 @@
 #include <memory>
 #include <sstream>
 
-#include "core/thread_tuner.hpp"
 #include "core/error.hpp"
 #include "core/exit_status.hpp"
 #include "core/io/input.hpp"
 #include "core/exec.hpp"
 #include "core/io/progress.hpp"
+#include "core/thread_tuner.hpp"
 #include "scenarios/patch/amorphous_cache.hpp"
 #include "scenarios/patch/patch_input.hpp"
 #include "scenarios/patch/patch_report.hpp"

@@ -9,90 +9,20 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <map>
 
-#include "core/thread_tuner.hpp"
 #include "core/error.hpp"
 #include "core/exit_status.hpp"
 #include "core/exec.hpp"
 #include "core/io/input.hpp"
-#include "core/units.hpp"
-#include "scenarios/common/peridem_input.hpp"
-#include "scenarios/common/two_particle_drop.hpp"
+#include "core/thread_tuner.hpp"
+#include "scenarios/restitution/restitution_input.hpp"
 
 namespace {
 
 using namespace debris;
-namespace u = debris::units;
-
-struct Case {
-  std::string name;
-  TwoParticleDrop spec;
-  std::string materials;
-  double paper = -1;  // the paper's C_R, or -1
-};
 
 int run(const std::string& input, const std::string& output, int threads) {
-  const InputNode root = InputNode::load_file(input);
-  const int dimension = static_cast<int>(root.integer("dimension", 2));
-  if (dimension != 2) throw input_error("dimension", std::to_string(dimension), "only 2 is supported by this scenario");
-  std::map<std::string, PdMaterial> materials;
-  const InputNode mats = root.child("materials");
-  for (const std::string& k : mats.keys()) materials[k] = read_pd_material(mats.child(k), dimension);
-
-  TwoParticleDrop base;
-  base.mesh_size = root.quantity("mesh_size", u::length, base.mesh_size);
-  base.drop_height = root.quantity("drop_height", u::length, base.drop_height);
-  base.gravity = root.quantity("gravity", u::acceleration, base.gravity);
-  base.damping_factor = root.quantity("damping_factor", u::dimensionless, base.damping_factor);
-  base.contact_radius_factor = root.quantity("contact_radius_factor", u::dimensionless, base.contact_radius_factor);
-  base.damping_onset_factor = root.quantity("damping_onset_factor", u::dimensionless, base.damping_onset_factor);
-  base.start_gap = root.quantity("start_gap", u::length, base.start_gap);
-  base.full_drop = root.boolean("full_drop", false);
-  base.allow_unstable_time_step = root.boolean("allow_unstable_time_step", false);
-  base.max_steps = root.integer("max_steps", base.max_steps);
-  base.damping = root.choice("damping", {"grain_centres", "node_pairs"}, "grain_centres") == "grain_centres"
-                     ? PdDamping::grain_centres
-                     : PdDamping::node_pairs;
-  base.mesh_directory = (std::filesystem::path(output) / "meshes").string();
-
-  std::vector<Case> cases;
-  for (const InputNode& c : root.list("cases")) {
-    Case k;
-    k.name = c.string("name");
-    k.spec = base;
-    const std::vector<double> radii = c.numbers("radii", u::length);
-    if (radii.size() != 2) throw input_error(c.path() + ".radii", std::to_string(radii.size()) + " values", "give [bottom, top]");
-    k.spec.bottom_radius = radii[0];
-    k.spec.top_radius = radii[1];
-    std::vector<std::string> names;
-    for (const InputNode& e : c.list("materials")) names.push_back(e.text());
-    if (names.size() != 2) throw input_error(c.path() + ".materials", std::to_string(names.size()) + " names", "give [bottom, top]");
-    for (const std::string& nm : names)
-      if (!materials.count(nm)) throw input_error(c.path() + ".materials", nm, "is not one of the materials above");
-    k.spec.bottom_material = materials[names[0]];
-    k.spec.top_material = materials[names[1]];
-    k.materials = names[0] + "/" + names[1];
-    k.spec.restitution = c.quantity("restitution", u::dimensionless);
-    k.spec.time_step = c.quantity("time_step", u::time);
-    k.spec.initial_speed = c.quantity("initial_speed", u::velocity, 0.0);
-    // A mesh study (Table 4) refines the mesh and the horizon together, case by case.
-    k.spec.mesh_size = c.quantity("mesh_size", u::length, base.mesh_size);
-    if (!(k.spec.mesh_size > 0) || !std::isfinite(k.spec.mesh_size))
-      throw input_error(c.path() + ".mesh_size", format_value(k.spec.mesh_size), "must be > 0");
-    if (c.has("horizon")) {
-      const double horizon = c.quantity("horizon", u::length);
-      if (!(horizon > 0) || !std::isfinite(horizon))
-        throw input_error(c.path() + ".horizon", format_value(horizon), "must be > 0");
-      k.spec.bottom_material.horizon = k.spec.top_material.horizon = horizon;
-    }
-    k.paper = c.quantity("paper", u::dimensionless, -1.0);
-    c.reject_unknown_keys();
-    cases.push_back(k);
-  }
-  root.reject_unknown_keys();
-  if (cases.empty()) throw input_error("cases", "(empty)", "list at least one case");
-
+  const std::vector<RestitutionCase> cases = read_restitution_input_text(read_input_file(input), input, output);
   const exec::ThreadRequest request = exec::request_threads(threads, 0);
   std::cout << exec::describe(request) << "\n";
   std::filesystem::create_directories(output);
@@ -104,7 +34,7 @@ int run(const std::string& input, const std::string& output, int threads) {
          "bottom_max_damage,top_max_damage,wall_seconds,mesh_h_m,horizon_m\n";
   std::printf("%-16s %-9s %-7s %5s %8s %7s %9s %9s %8s %8s %8s %8s\n", "case", "(R1,R2)mm", "mat", "eps", "dt_us",
               "v0", "paper", "debris", "diff", "Z_bot", "Z_top", "wall_s");
-  for (const Case& k : cases) {
+  for (const RestitutionCase& k : cases) {
     const TwoParticleDropResult r = run_two_particle_drop(k.spec);
     const double diff = k.paper >= 0 ? r.restitution_coefficient - k.paper : NAN;
     csv << '"' << k.name << '"' << ',' << k.spec.bottom_radius << ',' << k.spec.top_radius << ',' << k.materials << ','
