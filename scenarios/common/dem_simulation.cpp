@@ -1,4 +1,3 @@
-#include "core/thread_tuner.hpp"
 #include "scenarios/common/dem_simulation.hpp"
 
 #include <algorithm>
@@ -9,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "core/exec.hpp"
+#include "core/thread_tuner.hpp"
 #include "kernels/integrate.hpp"
 #include "kernels/virial_stress.hpp"
 

@@ -1,4 +1,3 @@
-#include "core/thread_tuner.hpp"
 #include "scenarios/common/peridem_simulation.hpp"
 
 #include <algorithm>
@@ -10,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "core/exec.hpp"
+#include "core/thread_tuner.hpp"
 #include "kernels/pd_bond_passes.hpp"
 #include "kernels/pd_integrate.hpp"
 
