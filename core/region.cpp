@@ -15,7 +15,15 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double comp(Vec3 v, int a) { return a == 0 ? v.x : (a == 1 ? v.y : v.z); }
 
-std::string interval(double lo, double hi) { return "[" + format_value(lo) + ", " + format_value(hi) + "]"; }
+// Appended piece by piece: GCC 12 warns falsely (-Wrestrict) on "[" + std::string at -O3.
+std::string interval(double lo, double hi) {
+  std::string s = "[";
+  s += format_value(lo);
+  s += ", ";
+  s += format_value(hi);
+  s += "]";
+  return s;
+}
 
 // [lo, hi] from a two-element list of bounds; hi must exceed lo.
 void read_interval(const InputNode& parent, const std::string& key, double& lo, double& hi) {

@@ -65,8 +65,8 @@ LatticeSpec read_lattice(const InputNode& l) {
     // Both unit cells hold 4 particles. Refused before anything is allocated: too many for int indices,
     // or for the machine's memory.
     const double n = 4.0 * spec.cells[0] * spec.cells[1] * spec.cells[2];
-    const std::string shown = "[" + std::to_string(spec.cells[0]) + ", " + std::to_string(spec.cells[1]) + ", " +
-                              std::to_string(spec.cells[2]) + "]";
+    std::string shown = "[";  // appended: GCC 12 warns falsely (-Wrestrict) on "[" + std::string at -O3
+    for (int a = 0; a < 3; ++a) shown += std::to_string(spec.cells[static_cast<std::size_t>(a)]) + (a < 2 ? ", " : "]");
     check_memory(l.path() + ".cells", shown, n, kDemBytesPerParticle, "particle");
     if (n > static_cast<double>(kMaxParticles))
       throw input_error(l.path() + ".cells", shown,

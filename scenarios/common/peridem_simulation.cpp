@@ -192,28 +192,33 @@ PeridemSimulation::PeridemSimulation(PdNodes nodes, PdGrains grains, std::vector
 }
 
 // Every particle-wall node pair within R_c is in the contact list just built (cutoff R_c + skin).
-void PeridemSimulation::refuse_grains_in_walls() const {
+template <class Visit>
+void PeridemSimulation::for_each_listed_pair(Visit visit) const {
   const std::vector<int>& off = list_.offset();
   const std::vector<int>& idx = list_.index();
-  for (int i = 0; i < list_.rows(); ++i) {
-    const int gi = nodes_.grain[i];
-    if (!is_particle(grains_, gi)) continue;
+  for (int i = 0; i < list_.rows(); ++i)
     for (int k = off[i]; k < off[i + 1]; ++k) {
-      const int j = idx[k], gj = nodes_.grain[j];
-      if (is_particle(grains_, gj)) continue;
-      const double rc = table_.pair(grains_.material[gi], grains_.material[gj]).r_c;
+      const int j = idx[k];
+      if (j <= i) continue;
+      const double rc = table_.pair(grains_.material[nodes_.grain[i]], grains_.material[nodes_.grain[j]]).r_c;
       const double dx = nodes_.x[j] - nodes_.x[i], dy = nodes_.y[j] - nodes_.y[i], dz = nodes_.z[j] - nodes_.z[i];
-      const double dist = std::sqrt(dx * dx + dy * dy + dz * dz);
-      if (dist < rc)
-        throw input_error("grains." + grain_names_[static_cast<std::size_t>(gi)], "placed on wall '" +
-                              grain_names_[static_cast<std::size_t>(gj)] + "'",
-                          "its node " + std::to_string(nodes_.id[i]) + " at (" + format_value(nodes_.x[i]) + ", " +
-                              format_value(nodes_.y[i]) + ", " + format_value(nodes_.z[i]) + ") m is " +
-                              format_value(dist) + " m from wall node " + std::to_string(nodes_.id[j]) +
-                              ", within the contact radius " + format_value(rc) +
-                              " m: the grain would be thrown out of the wall at once; move it clear of the wall");
+      if (!visit(i, j, std::sqrt(dx * dx + dy * dy + dz * dz), rc)) return;
     }
-  }
+}
+
+void PeridemSimulation::refuse_grains_in_walls() const {
+  for_each_listed_pair([&](int a, int b, double dist, double rc) {
+    if (dist >= rc || is_particle(grains_, nodes_.grain[a]) == is_particle(grains_, nodes_.grain[b])) return true;
+    const int i = is_particle(grains_, nodes_.grain[a]) ? a : b, j = i == a ? b : a;  // grain node, wall node
+    const int gi = nodes_.grain[i], gj = nodes_.grain[j];
+    throw input_error("grains." + grain_names_[static_cast<std::size_t>(gi)],
+                      "placed on wall '" + grain_names_[static_cast<std::size_t>(gj)] + "'",
+                      "its node " + std::to_string(nodes_.id[i]) + " at (" + format_value(nodes_.x[i]) + ", " +
+                          format_value(nodes_.y[i]) + ", " + format_value(nodes_.z[i]) + ") m is " +
+                          format_value(dist) + " m from wall node " + std::to_string(nodes_.id[j]) +
+                          ", within the contact radius " + format_value(rc) +
+                          " m: the grain would be thrown out of the wall at once; move it clear of the wall");
+  });
 }
 
 void PeridemSimulation::rebuild_contacts() {
@@ -391,44 +396,31 @@ PeridemDiagnostics PeridemSimulation::diagnostics() {
 }
 
 long PeridemSimulation::touching_pairs() const {
-  const std::vector<int>& off = list_.offset();
-  const std::vector<int>& idx = list_.index();
   long touching = 0;
-  for (int i = 0; i < list_.rows(); ++i)
-    for (int k = off[i]; k < off[i + 1]; ++k) {
-      const int j = idx[k];
-      if (j <= i) continue;
-      const double rc = table_.pair(grains_.material[nodes_.grain[i]], grains_.material[nodes_.grain[j]]).r_c;
-      const double dx = nodes_.x[j] - nodes_.x[i], dy = nodes_.y[j] - nodes_.y[i], dz = nodes_.z[j] - nodes_.z[i];
-      if (dx * dx + dy * dy + dz * dz < rc * rc) ++touching;
-    }
+  for_each_listed_pair([&](int, int, double dist, double rc) {
+    touching += dist < rc;
+    return true;
+  });
   return touching;
 }
 
 std::string PeridemSimulation::penetration_check(double limit) const {
-  const std::vector<int>& off = list_.offset();
-  const std::vector<int>& idx = list_.index();
-  for (int i = 0; i < list_.rows(); ++i) {
-    const int gi = nodes_.grain[i];
-    for (int k = off[i]; k < off[i + 1]; ++k) {
-      const int j = idx[k], gj = nodes_.grain[j];
-      if (j <= i || gj == gi) continue;  // each pair once; self-contact inside a broken grain is not a body pair
-      const double rc = table_.pair(grains_.material[gi], grains_.material[gj]).r_c;
-      const double dx = nodes_.x[j] - nodes_.x[i], dy = nodes_.y[j] - nodes_.y[i], dz = nodes_.z[j] - nodes_.z[i];
-      const double dist = std::sqrt(dx * dx + dy * dy + dz * dz);
-      if (rc - dist > limit * rc) {
-        std::ostringstream os;
-        os << "step " << step_ << ": node " << nodes_.id[i] << " of '" << grain_names_[static_cast<std::size_t>(gi)]
-           << "' and node " << nodes_.id[j] << " of '" << grain_names_[static_cast<std::size_t>(gj)] << "' are "
-           << dist << " m apart, " << (rc - dist) / rc << " of the contact radius " << rc
-           << " m deep (run.penetration_limit " << limit
-           << "): one body is passing through the other (a time step too large for the speeds, or a stiffness "
-              "too small for the load)";
-        return os.str();
-      }
-    }
-  }
-  return {};
+  std::string problem;
+  for_each_listed_pair([&](int i, int j, double dist, double rc) {
+    const int gi = nodes_.grain[i], gj = nodes_.grain[j];
+    // Self-contact inside a broken grain is not a pair of bodies.
+    if (gj == gi || rc - dist <= limit * rc) return true;
+    std::ostringstream os;
+    os << "step " << step_ << ": node " << nodes_.id[i] << " of '" << grain_names_[static_cast<std::size_t>(gi)]
+       << "' and node " << nodes_.id[j] << " of '" << grain_names_[static_cast<std::size_t>(gj)] << "' are " << dist
+       << " m apart, " << (rc - dist) / rc << " of the contact radius " << rc << " m deep (run.penetration_limit "
+       << limit
+       << "): one body is passing through the other (a time step too large for the speeds, or a stiffness too "
+          "small for the load)";
+    problem = os.str();
+    return false;
+  });
+  return problem;
 }
 
 std::string PeridemSimulation::health_check() const {

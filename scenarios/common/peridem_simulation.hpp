@@ -157,6 +157,10 @@ class PeridemSimulation {
   void compute_forces();
   void rebuild_contacts();
   void refuse_grains_in_walls() const;
+  // Each pair of the contact list once (i < j), with its distance and contact radius R_c; `visit(i, j, dist,
+  // rc)` returns false to stop. The set-up check, the health check and the diagnostics share it.
+  template <class Visit>
+  void for_each_listed_pair(Visit visit) const;
 
   PdNodes nodes_;
   PdGrains grains_;
