@@ -44,6 +44,10 @@ Groups::View Groups::view() {
     vy_[g] = list[g].velocity.y;
     vz_[g] = list[g].velocity.z;
   }
+  exec::to_device(mode_);
+  exec::to_device(vx_);
+  exec::to_device(vy_);
+  exec::to_device(vz_);
   return View{mode_.data(), vx_.data(), vy_.data(), vz_.data()};
 }
 
@@ -57,32 +61,6 @@ void Groups::kick_rigid(double dt) {
   }
 }
 
-Groups::Partials::Partials(Partials&& o) noexcept { v_.swap(o.v_); }
-
-Groups::Partials& Groups::Partials::operator=(Partials&& o) noexcept {
-  if (this != &o) {
-    release();
-    v_.swap(o.v_);
-  }
-  return *this;
-}
-
-double* Groups::Partials::reserve(std::size_t n) {
-  if (v_.size() < n) {
-    release();
-    v_.resize(n);
-    exec::device_enter(v_.data(), n * sizeof(double));
-  }
-  return v_.data();
-}
-
-void Groups::Partials::to_host(std::size_t n) { exec::update_host(v_.data(), n * sizeof(double)); }
-
-void Groups::Partials::release() {
-  if (!v_.empty()) exec::device_exit(v_.data(), v_.size() * sizeof(double));
-  std::vector<double>().swap(v_);
-}
-
 void Groups::sum_by_group(const Particles& p, const double* a, const double* b, const double* c, const double* w,
                           std::vector<Vec3>& out) {
   const int n = static_cast<int>(p.size());
@@ -90,11 +68,13 @@ void Groups::sum_by_group(const Particles& p, const double* a, const double* b, 
   const int block = kSumBlock;
   const int blocks = (n + block - 1) / block;
   const std::size_t len = static_cast<std::size_t>(blocks) * static_cast<std::size_t>(ng) * 3;
-  double* part = partials_.reserve(len);
+  if (partials_.size() < len) partials_.resize(len);
+  double* part = partials_.data();
   const int* group = p.group.data();
   // One pass for all groups: each block sums its members in index order into its own slice, whichever
-  // thread (or device team) runs it. Offload builds read p.group and the summed columns on the device:
-  // they must be resident there (Particles does not enter its columns yet; nothing in the DEM step does).
+  // thread (or device team) runs it, then the host adds the slices in block order: the same bits on any
+  // thread count or device.
+  DEBRIS_RESIDENT(part, group, a, b, c, w);
   DEBRIS_KERNEL
   for (int k = 0; k < blocks; ++k) {
     double* s = part + static_cast<std::size_t>(k) * static_cast<std::size_t>(ng) * 3;
@@ -109,7 +89,7 @@ void Groups::sum_by_group(const Particles& p, const double* a, const double* b, 
       s[3 * g + 2] += wi * c[i];
     }
   }
-  partials_.to_host(len);
+  exec::to_host(partials_, len);
   out.resize(static_cast<std::size_t>(ng));
   for (int g = 0; g < ng; ++g) {
     Vec3 t{};

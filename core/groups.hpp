@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "core/exec.hpp"
 #include "core/vec3.hpp"
 
 namespace debris {
@@ -85,34 +86,15 @@ class Groups {
   static constexpr int kSumBlock = 2048;
 
  private:
-  // Per block and group, the partial sums of one per-particle vector, [block][group][xyz]. Derived data:
-  // a copy starts empty, a move takes the buffer and its device entry along (offload builds: the buffer is
-  // entered on the device when sized and released when freed).
-  class Partials {
-   public:
-    Partials() = default;
-    Partials(const Partials&) {}
-    Partials& operator=(const Partials&) { return *this; }
-    Partials(Partials&& o) noexcept;
-    Partials& operator=(Partials&& o) noexcept;
-    ~Partials() { release(); }
-    /// At least n doubles, entered on the device; allocates only when n grows.
-    double* reserve(std::size_t n);
-    /// Device -> host of the first n doubles after a kernel filled them.
-    void to_host(std::size_t n);
-
-   private:
-    void release();
-    std::vector<double> v_;
-  };
-
   /// Sums a[i] (b[i], c[i]) of each group's members into out[g]; fixed order, one pass for all groups.
   void sum_by_group(const Particles& p, const double* a, const double* b, const double* c, const double* w,
                     std::vector<Vec3>& out);
 
-  std::vector<int> mode_;
-  std::vector<double> vx_, vy_, vz_;
-  Partials partials_;
+  // The kernel view (copied to the device by view(): a few numbers per group) and the per-block partial
+  // sums, [block][group][xyz] (computed on the device, copied back by sum_by_group).
+  exec::DeviceVector<int> mode_;
+  exec::DeviceVector<double> vx_, vy_, vz_;
+  exec::DeviceVector<double> partials_;
   std::vector<Vec3> sums_;
 };
 

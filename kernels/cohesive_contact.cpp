@@ -26,6 +26,7 @@ void cohesive_contact_pass(const CohesiveCoefficients& c, const CohesiveOptions&
   const CohesiveCoefficients coef = c;
   const CohesiveOptions o = opt;
   const BoxView b = box;
+  DEBRIS_RESIDENT(offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius, mass, fx, fy, fz, tx, ty, tz, hx, hy, hz);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     const Vec3 xi{x[i], y[i], z[i]}, vi{vx[i], vy[i], vz[i]}, wi{wx[i], wy[i], wz[i]};
@@ -68,6 +69,7 @@ CohesiveDiagnostics cohesive_diagnostics(const CohesiveCoefficients& c, const Co
   // A full list holds each pair twice: half of its energy per appearance.
   const double share = list.kind() == NeighborKind::full ? 0.5 : 1.0;
   double energy = 0.0, overlap = 0.0, pairs = 0.0;
+  DEBRIS_RESIDENT(offset, index, x, y, z, radius, mass, hx, hy, hz);
   DEBRIS_KERNEL_SUM2(energy, pairs)
   for (int i = 0; i < n; ++i) {
     for (int k = offset[i]; k < offset[i + 1]; ++k) {
@@ -79,6 +81,7 @@ CohesiveDiagnostics cohesive_diagnostics(const CohesiveCoefficients& c, const Co
       if (dn <= (o.adhesive ? pp.delta_f : 0.0)) pairs += share;
     }
   }
+  DEBRIS_RESIDENT(offset, index, x, y, z, radius);
   DEBRIS_KERNEL_MAX(overlap)
   for (int i = 0; i < n; ++i) {
     for (int k = offset[i]; k < offset[i + 1]; ++k) {

@@ -89,7 +89,7 @@ namespace {
 // uses 256-bit vectors where they exist. An AVX-512 clone was no faster on the compressive test: its loops
 // take 16 entries per vector, more than half of a typical row (27 entries). Offload builds call the same code
 // inside target regions, where function clones do not exist.
-#if defined(DEBRIS_OFFLOAD_NVPTX)
+#if defined(DEBRIS_OFFLOAD_TARGET)
 #define DEBRIS_PD_ROW_CLONES
 #else
 #define DEBRIS_PD_ROW_CLONES __attribute__((target_clones("default", "arch=x86-64-v3")))
@@ -103,7 +103,7 @@ constexpr int kStage = 64;
 // Host builds hand rows to the kernels in blocks of about equal bond entries (one dispatched call per block,
 // and two threads get equal work although the wall nodes, which have no bonds, all sit at the end). Offload
 // builds use one row per iteration.
-#if defined(DEBRIS_OFFLOAD_NVPTX)
+#if defined(DEBRIS_OFFLOAD_TARGET)
 int row_blocks(int n, int) { return n; }
 #else
 constexpr int kEntriesPerBlock = 4096;

@@ -86,51 +86,39 @@ StressTensor virial_stress(const CohesiveCoefficients& c, const CohesiveOptions&
   const int kin = kinetic ? 1 : 0;
   const int half = list.kind() == NeighborKind::half ? 1 : 0;
   const double inv = 1.0 / volume;
-  if constexpr (!exec::offload_build()) {
-    // Host: fixed blocks of particles, each summed in index order, then the block sums in block order, so
-    // the result is the same bits for any thread count (the amorphous relaxation feeds it back into the box).
-    constexpr int kBlock = 256;
-    const int blocks = (n + kBlock - 1) / kBlock;
-    std::vector<StressTensor> partial(static_cast<std::size_t>(blocks));
-    StressTensor* __restrict part = partial.data();
-    DEBRIS_KERNEL
-    for (int blk = 0; blk < blocks; ++blk) {
-      StressTensor t;
-      const int end = std::min(n, (blk + 1) * kBlock);
-      for (int i = blk * kBlock; i < end; ++i) {
-        const StressTensor w = particle_virial(i, half, sel, offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius,
-                                               mass, hx, hy, hz, coef, o, b, kin);
-        t.xx += w.xx, t.yy += w.yy, t.zz += w.zz, t.xy += w.xy, t.xz += w.xz, t.yz += w.yz;
-      }
-      part[blk] = t;
+  // Fixed blocks of particles, each summed in index order, then the block sums in block order on the host,
+  // so the result is the same bits for any thread count or device (the amorphous relaxation feeds it back
+  // into the box).
+  constexpr int kBlock = 256;
+  const int blocks = (n + kBlock - 1) / kBlock;
+  exec::DeviceVector<StressTensor> partial(static_cast<std::size_t>(blocks));
+  StressTensor* __restrict part = partial.data();
+#if defined(DEBRIS_OFFLOAD_TARGET)
+  // The caller's mask is a host array: copied to the device for this call.
+  exec::DeviceVector<int> select_copy;
+  if (sel) {
+    select_copy.assign(sel, sel + n);
+    exec::to_device(select_copy);
+    sel = select_copy.data();
+  }
+#endif
+  DEBRIS_RESIDENT(part, sel, offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius, mass, hx, hy, hz);
+  DEBRIS_KERNEL
+  for (int blk = 0; blk < blocks; ++blk) {
+    StressTensor t;
+    const int end = n < (blk + 1) * kBlock ? n : (blk + 1) * kBlock;
+    for (int i = blk * kBlock; i < end; ++i) {
+      const StressTensor w = particle_virial(i, half, sel, offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius,
+                                             mass, hx, hy, hz, coef, o, b, kin);
+      t.xx += w.xx, t.yy += w.yy, t.zz += w.zz, t.xy += w.xy, t.xz += w.xz, t.yz += w.yz;
     }
-    StressTensor s;
-    for (const StressTensor& t : partial)
-      s.xx += t.xx, s.yy += t.yy, s.zz += t.zz, s.xy += t.xy, s.xz += t.xz, s.yz += t.yz;
-    return StressTensor{s.xx * inv, s.yy * inv, s.zz * inv, s.xy * inv, s.xz * inv, s.yz * inv};
+    part[blk] = t;
   }
-  // Offload: six sums in two three-way reductions (exec offers up to three); each pass recomputes the pair
-  // forces, which is cheaper than a per-particle buffer that would have to live on the device too. The
-  // order of a device reduction is not fixed: round-off may differ from run to run.
-  double sxx = 0, syy = 0, szz = 0;
-  DEBRIS_KERNEL_SUM3(sxx, syy, szz)
-  for (int i = 0; i < n; ++i) {
-    const StressTensor w = particle_virial(i, half, sel, offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius, mass, hx, hy,
-                                           hz, coef, o, b, kin);
-    sxx += w.xx;
-    syy += w.yy;
-    szz += w.zz;
-  }
-  double sxy = 0, sxz = 0, syz = 0;
-  DEBRIS_KERNEL_SUM3(sxy, sxz, syz)
-  for (int i = 0; i < n; ++i) {
-    const StressTensor w = particle_virial(i, half, sel, offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius, mass, hx, hy,
-                                           hz, coef, o, b, kin);
-    sxy += w.xy;
-    sxz += w.xz;
-    syz += w.yz;
-  }
-  return StressTensor{sxx * inv, syy * inv, szz * inv, sxy * inv, sxz * inv, syz * inv};
+  exec::to_host(partial);
+  StressTensor s;
+  for (const StressTensor& t : partial)
+    s.xx += t.xx, s.yy += t.yy, s.zz += t.zz, s.xy += t.xy, s.xz += t.xz, s.yz += t.yz;
+  return StressTensor{s.xx * inv, s.yy * inv, s.zz * inv, s.xy * inv, s.xz * inv, s.yz * inv};
 }
 
 }  // namespace debris

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
+#include <utility>
 
 #include "core/error.hpp"
 #include "core/io/hdf5_file.hpp"
@@ -40,6 +41,9 @@ std::vector<Vec3> read_vec3s(const h5::Location& g, const std::string& name) {
 }  // namespace
 
 void DemSimulation::write_checkpoint(const std::string& path, const std::string& input_echo) const {
+  // The device's state, copied back (offload builds).
+  particles_to_host();
+  pairs_to_host();
   const std::string tmp = path + ".tmp";
   {
     h5::File f(tmp, h5::File::Mode::create);
@@ -187,10 +191,13 @@ DemSimulation DemSimulation::from_checkpoint(const std::string& path, std::strin
   sim.p_.for_each_column([&](const char* name, auto& col) {
     using T = typename std::decay_t<decltype(col)>::value_type;
     if (std::string(name) == "label" && !parts.has(name)) return;  // written before labels existed: all 0
-    if constexpr (std::is_same_v<T, int>)
-      col = parts.read<std::int32_t>(name).values;
-    else
-      col = parts.read<T>(name).values;
+    if constexpr (std::is_same_v<T, int>) {
+      const auto v = parts.read<std::int32_t>(name).values;
+      col.assign(v.begin(), v.end());
+    } else {
+      const auto v = parts.read<T>(name).values;
+      col.assign(v.begin(), v.end());
+    }
   });
   if (sim.p_.label.size() != sim.p_.id.size()) sim.p_.label.assign(sim.p_.id.size(), 0);
   if (f.has("labels")) {
@@ -233,19 +240,24 @@ DemSimulation DemSimulation::from_checkpoint(const std::string& path, std::strin
   sim.list_.restore(std::move(s));
 
   const h5::Group hist = f.open_group("history");
-  sim.history_.hx = hist.read<double>("hx").values;
-  sim.history_.hy = hist.read<double>("hy").values;
-  sim.history_.hz = hist.read<double>("hz").values;
+  for (auto [name, column] : {std::pair{"hx", &sim.history_.hx}, std::pair{"hy", &sim.history_.hy},
+                              std::pair{"hz", &sim.history_.hz}}) {
+    const auto v = hist.read<double>(name).values;
+    column->assign(v.begin(), v.end());
+  }
   if (sim.history_.hx.size() != static_cast<std::size_t>(sim.list_.entries()))
     throw std::runtime_error("checkpoint " + path + ": history and neighbour list disagree");
 
   // Derived data, recomputed exactly as the original run computed it.
   sim.coef_ = CohesiveCoefficients::from(sim.settings_.material);
   sim.limits_ = stability_limits(sim.coef_, sim.p_);
-  if (sim.pass_ == PairPass::half) {
-    sim.table_.build(sim.coef_, sim.p_, sim.list_);
-    sim.scratch_.index(sim.list_);
+  // Everything read goes to the device (the list did in restore()).
+  if constexpr (exec::offload_build()) {
+    to_device(sim.p_);
+    sim.history_.to_device();
   }
+  sim.host_edited_ = false;
+  if (sim.pass_ == PairPass::half) sim.index_half_pass();
   return sim;
 }
 
