@@ -1,13 +1,26 @@
 #pragma once
-// The one exception type for bad input. Its message names the key, the value and what would be valid;
-// executables catch it in main and exit non-zero with that message.
+// The exception types an executable's main maps to its exit status, one meaning each across all of them:
+//   0 done; 2 bad input (InputError: a key and its value, a corrupt or foreign checkpoint, a system too
+//   large for the machine), nothing written; 3 the run could not finish (OutputError: an output that
+//   cannot be written, a full disk; a failed health check; out of memory), the last good results kept;
+//   1 anything else (a bug).
 #include <sstream>
 #include <stdexcept>
 #include <string>
 
 namespace debris {
 
+constexpr int kExitInput = 2;       // bad input: nothing was written
+constexpr int kExitUnfinished = 3;  // the run could not finish (output not writable, non-finite state, ...)
+
 class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// An output file or directory that cannot be created or written (full disk, a file where a directory
+/// should be, a file size limit): the run cannot finish, whatever its input.
+class OutputError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
@@ -23,6 +36,11 @@ inline std::string format_value(double v) {
 /// "key 'material.poisson_ratio' = 0.3: must be in (-1, 0.25] ..."
 inline InputError input_error(const std::string& key, const std::string& value, const std::string& what) {
   return InputError("input error: '" + key + "' = " + value + ": " + what);
+}
+
+/// "output error: 'out/run/thermo.csv': writing a row failed (disk full?)"
+inline OutputError output_error(const std::string& path, const std::string& what) {
+  return OutputError("output error: '" + path + "': " + what);
 }
 
 }  // namespace debris

@@ -75,6 +75,31 @@ inline int contact_row(int i, const double* x, const double* y, const double* z,
   return count;
 }
 
+// Rows are kept ascending, so that a list built at once and one that received the pairs of broken bonds
+// later (add_broken_bonds) hold the same rows in the same order: the force sums, and so a restart, agree
+// bit for bit. Rows are short (tens of entries): insertion sort.
+inline void sort_row(int* row, int count) {
+  for (int a = 1; a < count; ++a) {
+    const int v = row[a];
+    int b = a;
+    for (; b > 0 && row[b - 1] > v; --b) row[b] = row[b - 1];
+    row[b] = v;
+  }
+}
+
+// True when j is in the ascending row [first, last).
+inline int row_has(const int* first, const int* end, int j) {
+  const int* last = end;
+  while (first < last) {  // lower bound of j
+    const int* mid = first + (last - first) / 2;
+    if (*mid < j)
+      first = mid + 1;
+    else
+      last = mid;
+  }
+  return first != end && *first == j;
+}
+
 DEBRIS_END_DECLARE_TARGET
 
 void check_layout(const PdNodes& nodes, const PdGrains& grains, const BondList& bonds) {
@@ -180,6 +205,7 @@ void PdContactList::build(const PdNodes& nodes, const PdGrains& grains, const Bo
       contact_row(i, x, y, z, cell_of, cell_start, sorted, n0, n1, n2, reach2, grain, kind, b_offset, b_partner,
                   b_broken, has_bonds, idx + off[i], count);
     }
+    sort_row(idx + off[i], count);
   }
 
   x0_.assign(nodes.x.begin(), nodes.x.end());
@@ -251,6 +277,70 @@ void PdContactList::build_slots(const PdNodes& nodes, const PdGrains& grains) {
   }
 }
 
+long PdContactList::add_broken_bonds(const BondList& bonds) {
+  if (!built_ || bonds.offset.empty()) return 0;
+  if (bonds.nodes() != static_cast<std::size_t>(rows_))
+    throw std::invalid_argument("pd_contact_list: the bond list does not match the list's rows");
+  const int n = rows_;
+  const double reach = cutoff_ + skin_, reach2 = reach * reach;
+  const double* __restrict x = x0_.data(), *__restrict y = y0_.data(), *__restrict z = z0_.data();
+  const int* __restrict b_offset = bonds.offset.data();
+  const int* __restrict b_partner = bonds.partner.data();
+  const unsigned char* __restrict b_broken = bonds.broken.data();
+  const int* __restrict off = offset_.data();
+  const int* __restrict idx = index_.data();
+
+  // The pairs a build would hold now and this list does not: broken bonds within reach at the build
+  // positions, not yet in the row (a bond broken before the build is in it already). Bonds join nodes of
+  // one particle grain, so may_touch holds for every broken one.
+  added_.resize(static_cast<std::size_t>(n) + 1);
+  int* __restrict add = added_.data();
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    int count = 0;
+    for (int k = b_offset[i]; k < b_offset[i + 1]; ++k) {
+      if (!b_broken[k]) continue;
+      const int j = b_partner[k];
+      const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
+      if (dx * dx + dy * dy + dz * dz >= reach2) continue;
+      count += !row_has(idx + off[i], idx + off[i + 1], j);
+    }
+    add[i + 1] = count;
+  }
+  long long total = 0;
+  add[0] = 0;
+  for (int i = 1; i <= n; ++i) {
+    total += add[i];
+    add[i] = static_cast<int>(total);
+  }
+  if (total == 0) return 0;
+  if (total + static_cast<long long>(entries()) > std::numeric_limits<int>::max())
+    throw input_error("pd_contact.skin", format_value(skin_), "too many contact candidates for int offsets");
+
+  // Merge each row with its new partners (both ascending) into the spare index array, then swap.
+  spare_index_.resize(index_.size() + static_cast<std::size_t>(total));
+  int* __restrict out = spare_index_.data();
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    const int* a = idx + off[i];
+    const int* const a_end = idx + off[i + 1];
+    int* o = out + off[i] + add[i];
+    for (int k = b_offset[i]; k < b_offset[i + 1]; ++k) {
+      if (!b_broken[k]) continue;
+      const int j = b_partner[k];
+      const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
+      if (dx * dx + dy * dy + dz * dz >= reach2) continue;
+      if (row_has(idx + off[i], a_end, j)) continue;
+      while (a < a_end && *a < j) *o++ = *a++;
+      *o++ = j;
+    }
+    while (a < a_end) *o++ = *a++;
+  }
+  for (int i = 1; i <= n; ++i) offset_[static_cast<std::size_t>(i)] += added_[static_cast<std::size_t>(i)];
+  index_.swap(spare_index_);
+  return static_cast<long>(total);
+}
+
 bool PdContactList::needs_rebuild(const PdNodes& nodes) const {
   if (!built_ || stale_ || nodes.size() != x0_.size()) return true;
   const int n = static_cast<int>(nodes.size());
@@ -272,7 +362,8 @@ bool PdContactList::needs_rebuild(const PdNodes& nodes) const {
 }
 
 std::size_t PdContactList::bytes() const {
-  const std::size_t ints = offset_.capacity() + index_.capacity() + row_buffer_.capacity() +
+  const std::size_t ints = offset_.capacity() + index_.capacity() + row_buffer_.capacity() + added_.capacity() +
+                           spare_index_.capacity() +
                            grain_slot_offset_.capacity() + slot_owner_.capacity() + slot_partner_grain_.capacity() +
                            slot_partner_node_.capacity() + slot_pair_offset_.capacity() + slot_pair_i_.capacity() +
                            slot_pair_j_.capacity() + wall_slot_offset_.capacity() + wall_slot_.capacity();

@@ -8,7 +8,8 @@
 // Rows are built in two kernel passes (count, prefix sum, fill) over a cell list, so they are the same for
 // any thread count; the counting pass keeps the first partners of each row, so that the fill searches again
 // only for long rows. The domain is bounded (no periodic axes): the cells cover the nodes' bounding box.
-// The list stays valid until some node has moved skin/2 or a bond has broken (request_rebuild).
+// Rows are ascending. The list stays valid until some node has moved skin/2; a bond that breaks adds its
+// pair in place (add_broken_bonds).
 //
 // Grain-pair slots, for the damping between grain centres (eqs 26-30): the force between two grains is
 // one force per pair of grains in contact, however many node pairs touch. A slot is (owner particle grain
@@ -38,8 +39,14 @@ class PdContactList {
   /// True when never built, the node count changed, a rebuild was requested, or some node moved more than
   /// skin/2 since the build.
   bool needs_rebuild(const PdNodes& nodes) const;
-  /// The runner calls this when a bond broke: its two nodes must enter the list as a self-contact pair.
+  /// Forces a full rebuild at the next needs_rebuild().
   void request_rebuild() { stale_ = true; }
+  /// After bonds broke: their two nodes may now touch (self-contact). Adds every broken bond that lies within
+  /// cutoff + skin at the build positions and is not in the list yet, in place; the list is then exactly the
+  /// one a build at those positions with the current broken flags gives (rows ascending), at a small part of
+  /// a rebuild's cost. The grain-pair slots are unchanged (self-contact pairs have none). Returns the pairs
+  /// added (entries, each pair counted from both ends).
+  long add_broken_bonds(const BondList& bonds);
 
   int rows() const { return rows_; }
   const std::vector<int>& offset() const { return offset_; }  // size rows() + 1
@@ -69,6 +76,7 @@ class PdContactList {
 
   CellList cells_;
   std::vector<int> offset_, index_;
+  std::vector<int> added_, spare_index_;  // add_broken_bonds: new entries per row (prefix sum), merged rows
   std::vector<double> x0_, y0_, z0_;  // positions at the last build
   int rows_ = 0;
   double cutoff_ = 0, skin_ = 0;

@@ -384,7 +384,7 @@ void write_text(const std::filesystem::path& path, const std::string& text) {
   std::ofstream out(path);
   out << text;
   out.close();
-  if (!out) throw input_error("gmsh.directory", path.parent_path().string(), "cannot write " + path.string());
+  if (!out) throw output_error(path.string(), "cannot write a mesh file (gmsh.directory)");
 }
 
 /// The last `max_lines` lines of a log, for an error message.
@@ -441,7 +441,7 @@ SimplexMesh mesh_shape(const ShapeSpec& spec, const GmshRun& run) {
 
   std::error_code ec;
   fs::create_directories(run.directory, ec);
-  if (ec) throw input_error("gmsh.directory", run.directory, "cannot be created: " + ec.message());
+  if (ec) throw output_error(run.directory, "cannot create the mesh directory (gmsh.directory): " + ec.message());
   char hash[17];
   std::snprintf(hash, sizeof hash, "%016llx",
                 static_cast<unsigned long long>(fnv1a(geo + "\n// " + dim_flag + " -format " + format)));
@@ -472,7 +472,7 @@ SimplexMesh mesh_shape(const ShapeSpec& spec, const GmshRun& run) {
     throw gmsh_failed("wrote a mesh of dimension " + std::to_string(mesh.dimension) + ", not " + dim_flag.substr(1));
   for (const auto& [from, to] : {std::pair{tmp_geo, fs::path(base.string() + ".geo")}, std::pair{tmp_msh, msh}}) {
     fs::rename(from, to, ec);
-    if (ec) throw input_error("gmsh.directory", run.directory, "cannot rename " + from.string() + ": " + ec.message());
+    if (ec) throw output_error(run.directory, "cannot rename " + from.string() + " there: " + ec.message());
   }
   fs::remove(out_log, ec);
   fs::remove(err_log, ec);

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "core/block_sums.hpp"
 #include "core/contact_history.hpp"
 #include "core/exec.hpp"
 #include "core/neighbor_list.hpp"
@@ -68,19 +69,32 @@ CohesiveDiagnostics cohesive_diagnostics(const CohesiveCoefficients& c, const Co
   const BoxView b = box;
   // A full list holds each pair twice: half of its energy per appearance.
   const double share = list.kind() == NeighborKind::full ? 0.5 : 1.0;
-  double energy = 0.0, overlap = 0.0, pairs = 0.0;
-  DEBRIS_RESIDENT(offset, index, x, y, z, radius, mass, hx, hy, hz);
-  DEBRIS_KERNEL_SUM2(energy, pairs)
-  for (int i = 0; i < n; ++i) {
-    for (int k = offset[i]; k < offset[i + 1]; ++k) {
-      const int j = index[k];
-      const Vec3 dx = minimum_image(b, Vec3{x[i] - x[j], y[i] - y[j], z[i] - z[j]});
-      const CohesivePairParams pp = cohesive_pair_params(coef, radius[i], radius[j], mass[i], mass[j]);
-      const double dn = norm(dx) - radius[i] - radius[j];
-      energy += share * cohesive_pair_energy(pp, o, dn, Vec3{hx[k], hy[k], hz[k]});
-      if (dn <= (o.adhesive ? pp.delta_f : 0.0)) pairs += share;
+  // The energy in fixed-order blocks of rows (core/block_sums.hpp): the same bits on any thread count.
+  const int blocks = sum_blocks(n);
+  BlockPartials partials;
+  double* part = partials.reserve(2 * static_cast<std::size_t>(blocks));
+  DEBRIS_RESIDENT(part, offset, index, x, y, z, radius, mass, hx, hy, hz);
+  DEBRIS_KERNEL
+  for (int blk = 0; blk < blocks; ++blk) {
+    double e = 0.0, q = 0.0;
+    const BlockRange r = block_range(blk, n);
+    for (int i = r.begin; i < r.end; ++i) {
+      for (int k = offset[i]; k < offset[i + 1]; ++k) {
+        const int j = index[k];
+        const Vec3 dx = minimum_image(b, Vec3{x[i] - x[j], y[i] - y[j], z[i] - z[j]});
+        const CohesivePairParams pp = cohesive_pair_params(coef, radius[i], radius[j], mass[i], mass[j]);
+        const double dn = norm(dx) - radius[i] - radius[j];
+        e += share * cohesive_pair_energy(pp, o, dn, Vec3{hx[k], hy[k], hz[k]});
+        if (dn <= (o.adhesive ? pp.delta_f : 0.0)) q += share;
+      }
     }
+    part[2 * blk] = e;
+    part[2 * blk + 1] = q;
   }
+  partials.to_host(2 * static_cast<std::size_t>(blocks));
+  const auto sums = partials.add_up<2>(blocks);
+  const double energy = sums[0], pairs = sums[1];
+  double overlap = 0.0;
   DEBRIS_RESIDENT(offset, index, x, y, z, radius);
   DEBRIS_KERNEL_MAX(overlap)
   for (int i = 0; i < n; ++i) {

@@ -34,6 +34,11 @@ inline double lps_stretch(double length, double length0) { return (length - leng
 /// the PeriDEM code breaks bonds compressed past s_0 too, |s| > s_0 + 1e-10, which eq 11 does not say).
 inline int lps_bond_breaks(double stretch, double critical_stretch) { return stretch >= critical_stretch ? 1 : 0; }
 
+/// Eq 11, or with in_compression = 1 the PeriDEM code's rule: a bond compressed past s_0 breaks too.
+inline int lps_bond_breaks(double stretch, double critical_stretch, int in_compression) {
+  return lps_bond_breaks(in_compression ? std::fabs(stretch) : stretch, critical_stretch);
+}
+
 /// One bond's term of the weighted volume m_i of eq 34: J x^2 V_j.
 inline double lps_weighted_volume_term(double J, double length0, double volume_j) {
   return J * length0 * length0 * volume_j;

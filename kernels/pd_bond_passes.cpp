@@ -5,6 +5,7 @@
 #include <cstring>
 #include <string>
 
+#include "core/block_sums.hpp"
 #include "core/bond_list.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
@@ -221,6 +222,8 @@ DEBRIS_PD_ROW_CLONES long break_and_dilate_rows(const RowInputs& in, int r0, int
     const PdLpsConstants c = in.lps[in.material[in.grain[i]]];
     const double xi = x[i], yi = y[i], zi = z[i];
     const double inv_horizon = 1.0 / c.horizon, s0 = c.critical_stretch, half_s0 = 0.5 * s0;
+    const double both = c.break_in_compression;  // 1: |e| is tested, not e (a factor, not a branch)
+    const int in_compression = both > 0.0;
     double sum = 0.0;
     for (int k0 = begin; k0 < end; k0 += kStage) {
       const int count = end - k0 < kStage ? end - k0 : kStage;
@@ -241,7 +244,8 @@ DEBRIS_PD_ROW_CLONES long break_and_dilate_rows(const RowInputs& in, int r0, int
         // Near s_0 when e >= s_0 x0 / 2 (a multiplication, not the division of the stretch; rounded, e below it
         // still means e / x0 < s_0 for certain): the factor is 2 then, else 0 (copysign, not a comparison,
         // which the compiler would turn into a branch).
-        near[t] = keep[t] * may_break * (1.0 + std::copysign(1.0, e - half_s0 * x0));
+        const double probe = e + both * (std::fabs(e) - e);  // e, or |e| when compression breaks bonds too
+        near[t] = keep[t] * may_break * (1.0 + std::copysign(1.0, probe - half_s0 * x0));
         extension[t] = e;
         term[t] = keep[t] * lps_dilatation_term(J, x0, e, v_j);
       }
@@ -249,7 +253,7 @@ DEBRIS_PD_ROW_CLONES long break_and_dilate_rows(const RowInputs& in, int r0, int
         // Eq 11 exactly, lps_bond_breaks(lps_stretch(|y|, x0), s0): e / x0 is the stretch, the same bits
         // from either end of the bond, so both ends decide alike. Broken now: h = 0 in this step's theta.
         for (int t = 0; t < count; ++t)
-          if (near[t] > 0.0 && lps_bond_breaks(extension[t] / length0[k0 + t], s0)) {
+          if (near[t] > 0.0 && lps_bond_breaks(extension[t] / length0[k0 + t], s0, in_compression)) {
             broken[k0 + t] = 1;
             term[t] = 0.0;
             ++marked;
@@ -536,14 +540,23 @@ double pd_elastic_energy(const std::vector<PdLpsConstants>& lps, const PdGrains&
   const unsigned char* broken = bonds.broken.data();
   const double *x = nodes.x.data(), *y = nodes.y.data(), *z = nodes.z.data();
   const double *volume = nodes.volume.data(), *m = nodes.weighted_volume.data(), *theta = nodes.theta.data();
-  double energy = 0.0;
-  DEBRIS_KERNEL_SUM(energy)
-  for (int i = 0; i < n; ++i) {
-    if (offset[i] == offset[i + 1]) continue;
-    energy += volume[i] * node_energy_density(i, offset, partner, length0, broken, table[material[grain[i]]], x, y, z,
-                                              volume, m, theta);
+  // Fixed-order blocks of nodes (core/block_sums.hpp): the same bits on any thread count.
+  const int blocks = sum_blocks(n);
+  BlockPartials partials;
+  double* part = partials.reserve(static_cast<std::size_t>(blocks));
+  DEBRIS_KERNEL
+  for (int b = 0; b < blocks; ++b) {
+    double energy = 0.0;
+    const BlockRange r = block_range(b, n);
+    for (int i = r.begin; i < r.end; ++i) {
+      if (offset[i] == offset[i + 1]) continue;
+      energy += volume[i] * node_energy_density(i, offset, partner, length0, broken, table[material[grain[i]]], x, y,
+                                                z, volume, m, theta);
+    }
+    part[b] = energy;
   }
-  return energy;
+  partials.to_host(static_cast<std::size_t>(blocks));
+  return partials.add_up<1>(blocks)[0];
 }
 
 }  // namespace debris

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "core/block_sums.hpp"
 #include "core/exec.hpp"
 #include "core/pd_contact_list.hpp"
 #include "core/pd_nodes.hpp"
@@ -91,11 +92,13 @@ void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& no
     for (int k = offset[i]; k < offset[i + 1]; ++k) {
       const int j = index[k];
       const int gj = grain[j];
+      const int rigid_j = kind[gj] == wall;
       const double share_j = mass[j] / static_cast<double>(offset[j + 1] - offset[j]);
-      const double stick = pd_stick_mass(share_i, rigid_i, share_j, kind[gj] == wall);
+      const double stick = pd_stick_mass(share_i, rigid_i, share_j, rigid_j);
+      const double m_eq = pd_damping_mass(mass_i, rigid_i, mass[j], rigid_j);
       const PdContactPairResult r = pd_contact_pair_force(pairs[mat_i + material[gj]], Vec3{x[j], y[j], z[j]} - zi,
-                                                          Vec3{vx[j], vy[j], vz[j]} - vi, vol_i, volume[j], mass_i,
-                                                          mass[j], stick, dt, gi == gj, node_damping);
+                                                          Vec3{vx[j], vy[j], vz[j]} - vi, vol_i, volume[j], m_eq,
+                                                          stick, dt, gi == gj, node_damping);
       f += r.force;
     }
     fx[i] += f.x;
@@ -120,32 +123,53 @@ void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& no
   double* __restrict sfx = work.slot_fx.data(), *__restrict sfy = work.slot_fy.data();
   double* __restrict sfz = work.slot_fz.data();
 
-  // One force per grain pair in contact (dist(Omega_p, Omega_p') < R_c, or the onset factor times it).
+  // Which slots are in contact (dist(Omega_p, Omega_p') < R_c, or the onset factor times it).
+  work.slot_touching.resize(static_cast<std::size_t>(ns));
+  int* __restrict touching = work.slot_touching.data();
+  DEBRIS_KERNEL
+  for (int s = 0; s < ns; ++s) {
+    const int p = owner[s], q = partner[s];
+    const PdContactParams& pp = pairs[material[p] * nm + material[q]];
+    const double rc2 = pp.damping_onset * pp.damping_onset;
+    int t = 0;
+    for (int e = pair_offset[s]; e < pair_offset[s + 1] && !t; ++e) {
+      const int i = pair_i[e], j = pair_j[e];
+      const double dx = x[j] - x[i], dy = y[j] - y[i], dz = z[j] - z[i];
+      t = dx * dx + dy * dy + dz * dz < rc2;
+    }
+    touching[s] = t;
+  }
+
+  // One force per grain pair in contact. A wall is one body of infinite mass (m_eq = 2 m_p, eq 29's limit)
+  // met at every wall node in contact: each of its k touching wall-node slots carries 1/k of the force
+  // toward its node, so the grain feels one wall force however finely the wall is meshed, as it feels one
+  // force from a grain. (PeriDEM's demModel.cpp instead adds a full force per touching wall node with
+  // m_eq = m_p; that damps a grain resting on k wall nodes k/sqrt(2) times harder than a grain hitting a
+  // very heavy grain.)
+  const int* __restrict grain_slot = list.grain_slot_offset().data();
   DEBRIS_KERNEL
   for (int s = 0; s < ns; ++s) {
     const int p = owner[s], q = partner[s], jn = partner_node[s];
-    const PdContactParams& pp = pairs[material[p] * nm + material[q]];
-    const double rc2 = pp.damping_onset * pp.damping_onset;
-    int touching = 0;
-    for (int e = pair_offset[s]; e < pair_offset[s + 1] && !touching; ++e) {
-      const int i = pair_i[e], j = pair_j[e];
-      const double dx = x[j] - x[i], dy = y[j] - y[i], dz = z[j] - z[i];
-      touching = dx * dx + dy * dy + dz * dz < rc2;
-    }
     Vec3 g{};
-    if (touching) {
+    if (touching[s]) {
+      const PdContactParams& pp = pairs[material[p] * nm + material[q]];
       const Vec3 zp{cx[p], cy[p], cz[p]}, vp{cvx[p], cvy[p], cvz[p]};
-      const Vec3 zq = jn >= 0 ? Vec3{x[jn], y[jn], z[jn]} : Vec3{cx[q], cy[q], cz[q]};
-      const Vec3 vq = jn >= 0 ? Vec3{vx[jn], vy[jn], vz[jn]} : Vec3{cvx[q], cvy[q], cvz[q]};
-      const double mq = jn >= 0 ? mass[jn] : g_mass[q];
-      g = pd_centre_damping_force(pp, zq - zp, vq - vp, g_mass[p], mq);
+      if (jn >= 0) {
+        int k = 0;
+        for (int r = grain_slot[p]; r < grain_slot[p + 1]; ++r) k += touching[r] && partner[r] == q;
+        g = (1.0 / static_cast<double>(k)) *
+            pd_centre_damping_force(pp, Vec3{x[jn], y[jn], z[jn]} - zp, Vec3{vx[jn], vy[jn], vz[jn]} - vp,
+                                    pd_damping_mass(g_mass[p], 0, 0.0, 1));
+      } else {
+        g = pd_centre_damping_force(pp, Vec3{cx[q], cy[q], cz[q]} - zp, Vec3{cvx[q], cvy[q], cvz[q]} - vp,
+                                    pd_equivalent_mass(g_mass[p], g_mass[q]));
+      }
     }
     sfx[s] = g.x;
     sfy[s] = g.y;
     sfz[s] = g.z;
   }
 
-  const int* __restrict grain_slot = list.grain_slot_offset().data();
   double* __restrict gfx = work.grain_fx.data(), *__restrict gfy = work.grain_fy.data();
   double* __restrict gfz = work.grain_fz.data();
   DEBRIS_KERNEL
@@ -206,17 +230,26 @@ double pd_contact_elastic_energy(const PdContactTable& table, const PdNodes& nod
   const int* material = grains.material.data();
   const PdContactParams* pairs = table.pairs.data();
   const int nm = table.materials;
-  double energy = 0.0;
-  DEBRIS_KERNEL_SUM(energy)
-  for (int i = 0; i < n; ++i) {
-    for (int k = offset[i]; k < offset[i + 1]; ++k) {
-      const int j = index[k];
-      const double d = norm(Vec3{x[j] - x[i], y[j] - y[i], z[j] - z[i]});
-      // A full list holds each pair twice.
-      energy += 0.5 * pd_contact_energy(pairs[material[grain[i]] * nm + material[grain[j]]], d, volume[i], volume[j]);
+  // Fixed-order blocks of rows (core/block_sums.hpp): the same bits on any thread count.
+  const int blocks = sum_blocks(n);
+  BlockPartials partials;
+  double* part = partials.reserve(static_cast<std::size_t>(blocks));
+  DEBRIS_KERNEL
+  for (int b = 0; b < blocks; ++b) {
+    double energy = 0.0;
+    const BlockRange r = block_range(b, n);
+    for (int i = r.begin; i < r.end; ++i) {
+      for (int k = offset[i]; k < offset[i + 1]; ++k) {
+        const int j = index[k];
+        const double d = norm(Vec3{x[j] - x[i], y[j] - y[i], z[j] - z[i]});
+        // A full list holds each pair twice.
+        energy += 0.5 * pd_contact_energy(pairs[material[grain[i]] * nm + material[grain[j]]], d, volume[i], volume[j]);
+      }
     }
+    part[b] = energy;
   }
-  return energy;
+  partials.to_host(static_cast<std::size_t>(blocks));
+  return partials.add_up<1>(blocks)[0];
 }
 
 }  // namespace debris

@@ -9,15 +9,18 @@
 // contact (dist < R_c: some node pair closer than R_c), and eq 30 applies it at every node of p; times the
 // nodal volume, node i of p receives V_i / |Omega_p| of the grain-pair force beta-bar delta_dot_c e, so the
 // grain as a whole receives the force once, whatever the number of touching node pairs. A wall node is a
-// partner of its own (section 3.2): its position, velocity and nodal mass stand for z_c', v_c', rho'|Omega'|.
+// partner of its own (section 3.2): its position and velocity stand for z_c', v_c'; the wall itself is one
+// body of infinite mass (m_eq = 2 m_p), whose force is shared among its touching nodes (pd_contact.cpp).
 // Passes: per-grain centres (pd_grain_centres), per-slot forces (a slot is one grain pair of the list, see
 // core/pd_contact_list.hpp), per-grain sums, per-node spreading; the wall nodes take the opposite of the
 // slot forces of their particle partners, so the contact forces of a step sum to zero (round-off).
 //
 // Notes against PeriDEM's src/model/dem/demModel.cpp: it damps grain pairs in an O(N_p^2) serial loop,
 // decides contact between bounding circles (|x_c - x_c'| < R + R' + 1.01 R_c) instead of dist < R_c,
-// divides by pi R^2 instead of |Omega_p|, and uses the particle mass alone as M_eq against a wall node (the
-// paper's text gives eq 29 with the node's mass, which we follow). Because the dashpot acts along the line
+// divides by pi R^2 instead of |Omega_p|, and uses the particle mass alone as M_eq against each wall node
+// in contact, one full force per node. Eq 29 with the wall node's own mass (what debris did first) left a
+// grain bouncing off a wall almost undamped (C_R 0.95 for restitution 0.5); debris takes the wall as one
+// body of infinite mass, so a wall damps like a very heavy grain. Because the dashpot acts along the line
 // from the grain centre to the wall node, a grain sliding past a wall is also slowed by it (rate < 0 for the
 // wall nodes ahead of the centre); that is the paper's model, kept as written.
 #include <vector>
@@ -37,6 +40,7 @@ enum class PdDamping : int { node_pairs = 0, grain_centres = 1 };
 /// Scratch of the contact passes, sized by them (no allocation once the sizes are stable).
 struct PdContactWork {
   std::vector<double> grain_volume, grain_mass;      // sums over each grain's nodes
+  std::vector<int> slot_touching;                    // 1 when the slot's grains are in contact
   std::vector<double> slot_fx, slot_fy, slot_fz;     // damping force of each grain-pair slot on its owner
   std::vector<double> grain_fx, grain_fy, grain_fz;  // total centre damping force on each grain
 };

@@ -43,6 +43,15 @@ DEBRIS_DECLARE_TARGET
 /// Eqs 24 and 29: twice the reduced mass. Swapping the arguments gives the same bits.
 inline double pd_equivalent_mass(double a, double b) { return 2.0 * (a * b) / (a + b); }
 
+/// Eq 24 or 29 when either side may be a rigid wall (rigid = 1): a wall is, for damping, a body of infinite
+/// mass, so m_eq tends to twice the other side's mass, 2 m (and a collision with it damps exactly like one
+/// with a grain of very large mass). Both rigid: 0, no dashpot (walls never touch walls). Symmetric in (i, j).
+inline double pd_damping_mass(double mass_i, int rigid_i, double mass_j, int rigid_j) {
+  if (rigid_i) return rigid_j ? 0.0 : 2.0 * mass_j;
+  if (rigid_j) return 2.0 * mass_i;
+  return pd_equivalent_mass(mass_i, mass_j);
+}
+
 /// Eqs 23 and 28: dashpot viscosity for the equivalent mass m_eq (0 when e_n = 1).
 inline double pd_damping_coefficient(const PdContactParams& p, double m_eq) {
   return p.beta_coef * std::sqrt((p.kappa_eff * p.r_c) * m_eq);
@@ -69,10 +78,11 @@ inline double pd_contact_energy(const PdContactParams& p, double distance, doubl
 
 /// Eqs 16-24 for node i and node j. dz = z_j - z_i, dv = v_j - v_i. same_grain: self-contact of one grain
 /// across a broken bond (paper section 3.2), the normal force only. node_damping: add the dashpot of eq 22
-/// (the damping between nodes of section 2.3.1); otherwise damping is applied between grain centres.
+/// (the damping between nodes of section 2.3.1) with m_eq = damping_mass (pd_damping_mass, eq 24);
+/// otherwise damping is applied between grain centres.
 inline PdContactPairResult pd_contact_pair_force(const PdContactParams& p, Vec3 dz, Vec3 dv, double vol_i, double vol_j,
-                                                 double mass_i, double mass_j, double stick_mass, double dt,
-                                                 int same_grain, int node_damping) {
+                                                 double damping_mass, double stick_mass, double dt, int same_grain,
+                                                 int node_damping) {
   PdContactPairResult out{};
   const double d2 = norm2(dz);
   if (!(d2 < p.r_c * p.r_c)) return out;  // exactly zero beyond R_c
@@ -97,24 +107,23 @@ inline PdContactPairResult pd_contact_pair_force(const PdContactParams& p, Vec3 
     }
   }
   if (node_damping && rate < 0.0) {
-    const double beta = pd_damping_coefficient(p, pd_equivalent_mass(mass_i, mass_j));
+    const double beta = pd_damping_coefficient(p, damping_mass);
     out.force += (beta * rate) * e;  // eq 22 times V
   }
   return out;
 }
 
 /// Eqs 26-29: the total damping force on grain p from partner q, before it is spread over p's nodes (eq 30).
-/// dzc = z_c' - z_c, dvc = v_c' - v_c between the two centres; mass_p, mass_q = rho |Omega|. A wall node
-/// is its own partner "grain" (section 3.2): its position, velocity and mass. The caller checks that the
-/// two are in contact (some node pair closer than R_c).
-inline Vec3 pd_centre_damping_force(const PdContactParams& p, Vec3 dzc, Vec3 dvc, double mass_p, double mass_q) {
+/// dzc = z_c' - z_c, dvc = v_c' - v_c between the two centres; m_eq from eq 29 (pd_damping_mass: 2 m_p
+/// against a wall). The caller checks that the two are in contact (some node pair closer than R_c).
+inline Vec3 pd_centre_damping_force(const PdContactParams& p, Vec3 dzc, Vec3 dvc, double m_eq) {
   const double d2 = norm2(dzc);
   if (!(d2 > 0.0)) return Vec3{};
   const Vec3 e = (1.0 / std::sqrt(d2)) * dzc;
   const double rate = dot(dvc, e);  // eq 26
   if (!(rate < 0.0)) return Vec3{};
-  const double beta = pd_damping_coefficient(p, pd_equivalent_mass(mass_p, mass_q));  // eq 28
-  return (beta * rate) * e;                                                           // eq 27 times |Omega_p|
+  const double beta = pd_damping_coefficient(p, m_eq);  // eq 28
+  return (beta * rate) * e;                            // eq 27 times |Omega_p|
 }
 
 DEBRIS_END_DECLARE_TARGET

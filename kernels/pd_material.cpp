@@ -49,6 +49,7 @@ PdLpsConstants PdLpsConstants::from(const PdMaterial& m, const char* prefix) {
     c.shear = 8.0 * m.shear_modulus;                  // plane strain (header: Le, Chan & Schwartz 2014)
   }
   c.critical_stretch = pd_critical_stretch(m);
+  c.break_in_compression = m.break_in_compression ? 1.0 : 0.0;
   return c;
 }
 

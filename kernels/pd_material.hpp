@@ -11,6 +11,7 @@ struct PdMaterial {
   double fracture_energy = 0;   // G_c (J/m^2)
   double horizon = 0;           // epsilon (m)
   int dimension = 2;            // 2 (plane strain) or 3
+  int break_in_compression = 0;  // 1: a bond also breaks when compressed past s_0, |s| >= s_0 (PeriDEM's code)
 
   /// Throws InputError naming `prefix.key` and the value for the first property out of its range: density,
   /// moduli and horizon finite and > 0, fracture energy > 0 (+infinity allowed: bonds that never break),
@@ -50,6 +51,7 @@ struct PdLpsConstants {
   double bulk = 0;              // k: K (3D), K + G/3 (plane strain)
   double shear = 0;             // a G: 15 G (3D), 8 G (plane strain)
   double critical_stretch = 0;  // s_0 of eq 10 (+infinity when G_c is)
+  double break_in_compression = 0;  // 1: bonds break at |s| >= s_0, 0: at s >= s_0 (eq 11)
 
   /// Validates the material (InputError naming `prefix.key`) and derives the constants.
   static PdLpsConstants from(const PdMaterial& m, const char* prefix = "material");

@@ -193,12 +193,29 @@ class PerfCheckTest(unittest.TestCase):
                 status, out = self.run_check("--clock", clock)
                 self.assertEqual(status, 1, out)
                 self.assertIn("REGRESSION", out)
+                # Seen in the first run and in both confirming runs (--confirm 2 by default).
                 step_lines = [l for l in out.splitlines() if l.startswith(STEP)]
-                self.assertEqual(len(step_lines), 1, out)
-                self.assertIn("REGRESSION", step_lines[0])
+                self.assertEqual(len(step_lines), 3, out)
+                for line in step_lines:
+                    self.assertIn("REGRESSION", line)
+                self.assertIn("in all 3 runs", out)
                 for n in SUBSET:
                     if n != STEP:
                         self.assertNotIn("REGRESSION", next(l for l in out.splitlines() if l.startswith(n)))
+
+    # 4b. A baseline entry's own tolerance replaces the default: 40% slower passes under 0.45, and
+    # --confirm 0 judges on one run.
+    def test_entry_tolerance_and_no_confirmation(self):
+        entry = make_entry(HERE_KIND, rates_spec())
+        entry["tolerance"] = 0.45
+        self.write_baseline({"baselines": [entry]})
+        self.set_rates(rates_spec({STEP: 0.6}))
+        status, out = self.run_check()
+        self.assertEqual(status, 0, out)
+        self.assertIn("tolerance 45%", out)
+        status, out = self.run_check("--tolerance", "0.25", "--confirm", "0")
+        self.assertEqual(status, 1, out)
+        self.assertEqual(len([l for l in out.splitlines() if l.startswith(STEP)]), 1, out)
 
     # 5. The step 15% slower: within the 25% tolerance, passed.
     def test_check_15_percent_slower_passes(self):

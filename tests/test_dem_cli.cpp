@@ -1,5 +1,5 @@
-// debris_dem from the command line: each bad input ends with a message naming the key and the value and a
-// non-zero exit, before anything is written (earlier results in the output directory survive); the default
+// debris_dem from the command line: each bad input ends with a message naming the key and the value and
+// exit status 2, before anything is written (earlier results in the output directory survive); the default
 // input runs and writes its thermo CSV and dump.
 #include <gtest/gtest.h>
 
@@ -72,7 +72,7 @@ class DemCli : public ::testing::Test {
   }
   void expect_rejected(const std::string& yaml, const std::vector<std::string>& must_mention) {
     const Result r = run_dem("-i " + write(dir, "bad.yaml", yaml).string());
-    EXPECT_NE(r.exit_code, 0) << r.output;
+    EXPECT_EQ(r.exit_code, 2) << r.output;
     for (const std::string& m : must_mention) EXPECT_NE(r.output.find(m), std::string::npos) << "no '" << m << "' in:\n" << r.output;
     EXPECT_EQ(slurp(out / "thermo.csv"), thermo_before) << "a bad input overwrote earlier results";
   }
@@ -126,7 +126,7 @@ TEST_F(DemCli, TimeStepAboveCriticalAcceptedWhenInsisting) {
 
 TEST_F(DemCli, MissingInputFile) {
   const Result r = run_dem("-i " + (dir / "no_such_file.yaml").string());
-  EXPECT_NE(r.exit_code, 0);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("no_such_file.yaml"), std::string::npos) << r.output;
 }
 
@@ -147,6 +147,15 @@ TEST_F(DemCli, MalformedYaml) {
 TEST_F(DemCli, UnknownKey) {
   expect_rejected(replace(small_input(out.string()), "youngs_modulus: 1", "youngs_modulus: 1\n  youngs_modulu: 2"),
                   {"material.youngs_modulu", "unknown key"});
+}
+
+// Group members by type or id: whole numbers only (1.7 was once cut to 1 without a word).
+TEST_F(DemCli, NonIntegerGroupTypeOrId) {
+  const std::string groups = "groups:\n  - name: g\n    motion: frozen\n";
+  expect_rejected(replace(small_input(out.string()), "run:\n", groups + "    types: [1.7]\nrun:\n"),
+                  {"groups[0].types[0]", "1.7", "whole number"});
+  expect_rejected(replace(small_input(out.string()), "run:\n", groups + "    ids: [3, 4e0]\nrun:\n"),
+                  {"groups[0].ids[1]", "4e0", "whole number"});
 }
 
 TEST_F(DemCli, WrongUnit) {

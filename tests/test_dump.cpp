@@ -110,14 +110,14 @@ TEST(DumpWriter, ReopeningTruncates) {
   EXPECT_EQ(lines[4], "ITEM: BOX BOUNDS ff ff ff");
 }
 
-TEST(DumpWriter, UnwritablePathNamesOutput) {
+TEST(DumpWriter, UnwritablePathIsAnOutputErrorNamingIt) {
   const std::string path = ::testing::TempDir() + "/no_such_dir_for_debris/x.lammpstrj";
   try {
     DumpWriter dump(path);
     FAIL() << "opened " << path;
-  } catch (const InputError& e) {
+  } catch (const OutputError& e) {
     const std::string msg = e.what();
-    EXPECT_NE(msg.find("'output'"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("output error"), std::string::npos) << msg;
     EXPECT_NE(msg.find(path), std::string::npos) << msg;
   }
 }

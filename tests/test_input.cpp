@@ -304,5 +304,32 @@ TEST(InputLoad, FileRoundTripAndMissingFile) {
   EXPECT_TRUE(contains(error_of([&] { InputNode::load_file(dir); }), "directory"));
 }
 
+// Nested YAML aliases ("billion laughs"): nine levels of ten copies each are a few lines of text but a tree of
+// 10^9 nodes. The tree's size is counted with each alias counted once, and an input over the limit is refused
+// naming the file; one just under it loads.
+TEST(InputNode, NestedAliasesAreCountedAndRefusedOverTheLimit) {
+  std::string yaml = "a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n";
+  for (int k = 1; k <= 9; ++k) {
+    const std::string p = "*a" + std::to_string(k - 1);
+    yaml += "a" + std::to_string(k) + ": &a" + std::to_string(k) + " [" + p;
+    for (int c = 1; c < 10; ++c) yaml += ", " + p;
+    yaml += "]\n";
+  }
+  const std::string msg = error_of([&] { InputNode::load_string(yaml, "laughs.yaml"); });
+  EXPECT_TRUE(contains(msg, "'input file' = laughs.yaml")) << msg;
+  EXPECT_TRUE(contains(msg, "aliases")) << msg;
+  EXPECT_TRUE(contains(msg, std::to_string(kMaxInputNodes))) << msg;
+  // a0 to a4: about 1.2e5 nodes, under the limit, load; with a5 (1.1e6 more) they do not.
+  std::string five, six;
+  for (std::size_t at = 0, line = 0; line < 6; ++line) {
+    const std::size_t end = yaml.find('\n', at) + 1;
+    if (line < 5) five += yaml.substr(at, end - at);
+    six += yaml.substr(at, end - at);
+    at = end;
+  }
+  EXPECT_NO_THROW(InputNode::load_string(five, "five.yaml"));
+  EXPECT_THROW(InputNode::load_string(six, "six.yaml"), InputError);
+}
+
 }  // namespace
 }  // namespace debris

@@ -173,7 +173,7 @@ Velocities
   EXPECT_EQ(p.x[0], 1.0);
   EXPECT_EQ(p.z[0], 3.0);
   EXPECT_EQ(p.ix[0], 1);
-  EXPECT_EQ(p.iz[0], -1);
+  EXPECT_EQ(p.iz[0], 0);  // -1 in the file, on an axis that is not periodic: reset (as LAMMPS does)
   EXPECT_EQ(p.vx[0], -1.0);
   EXPECT_EQ(p.wz[0], 0.5);
   EXPECT_EQ(p.id[1], 3);
@@ -195,6 +195,30 @@ TEST(LammpsDataRead, NoVelocitiesMeansAtRest) {
   ASSERT_EQ(d.particles.size(), 1u);
   EXPECT_EQ(d.particles.vx[0], 0.0);
   EXPECT_EQ(d.particles.wz[0], 0.0);
+}
+
+// Image flags on an axis that is not periodic mean nothing: reset to 0 with a warning naming the count and
+// the axis, as LAMMPS does; on periodic axes they are kept.
+TEST(LammpsDataRead, ImageFlagsOnNonPeriodicAxesAreResetWithAWarning) {
+  const std::string path = write_file("images.data", "t\n3 atoms\n1 atom types\n0 10 xlo xhi\n0 10 ylo yhi\n"
+                                                     "0 10 zlo zhi\nAtoms\n\n1 1 1 1 5 5 5 2 1 0\n"
+                                                     "2 1 1 1 6 5 5 -1 3 0\n3 1 1 1 7 5 5 0 0 0\n");
+  ::testing::internal::CaptureStderr();
+  const LammpsData d = read_lammps_data(path, {true, false, false});
+  const std::string warning = ::testing::internal::GetCapturedStderr();
+  ASSERT_EQ(d.particles.size(), 3u);
+  EXPECT_EQ(d.particles.ix, (std::vector<int>{2, -1, 0}));  // x is periodic: kept
+  EXPECT_EQ(d.particles.iy, (std::vector<int>{0, 0, 0}));
+  EXPECT_NE(warning.find("warning: " + path + ": 2 atoms have a nonzero image flag on the non-periodic y axis"),
+            std::string::npos)
+      << warning;
+  EXPECT_EQ(warning.find(" x axis"), std::string::npos) << warning;
+  EXPECT_EQ(warning.find(" z axis"), std::string::npos) << warning;
+  // Periodic everywhere: nothing to say.
+  ::testing::internal::CaptureStderr();
+  const LammpsData all = read_lammps_data(path, {true, true, true});
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+  EXPECT_EQ(all.particles.iy, (std::vector<int>{1, 3, 0}));
 }
 
 /// A valid header around `atoms` (the Atoms section body) and optional extra sections.
@@ -282,7 +306,7 @@ TEST(LammpsDataWrite, RefusesWhatLammpsCannotRead) {
   const std::string path = temp_path("id0.data");
   EXPECT_THROW(write_lammps_data(path, Box({-1, -1, -1}, {1, 1, 1}, {false, false, false}), p), InputError);
   EXPECT_FALSE(std::filesystem::exists(path));
-  EXPECT_THROW(write_lammps_data(temp_path("no_such_dir/x.data"), Box(), Particles()), InputError);
+  EXPECT_THROW(write_lammps_data(temp_path("no_such_dir/x.data"), Box(), Particles()), OutputError);
 }
 
 }  // namespace

@@ -247,6 +247,21 @@ TEST_F(PeridemCli, RestitutionAboveOne) {
                   {"contact.restitution", "1.5", "(0, 1]"});
 }
 
+TEST_F(PeridemCli, PenetrationLimitOutOfRange) {
+  expect_rejected(replace(small_input(out.string()), "time_step: 0.1 us", "time_step: 0.1 us\n  penetration_limit: 0"),
+                  {"run.penetration_limit", "0", "(0, 1]"});
+}
+
+TEST_F(PeridemCli, UnknownBondBreakingRule) {
+  expect_rejected(replace(small_input(out.string()), "horizon: 0.6 mm", "horizon: 0.6 mm\n    bond_breaking: sometimes"),
+                  {"bond_breaking", "sometimes", "tension_and_compression"});
+}
+
+TEST_F(PeridemCli, GrainPlacedIntoAWallKeepsEarlierResults) {
+  expect_rejected(replace(small_input(out.string()), "centre: [0, 1.18 mm, 0]", "centre: [0, 0.95 mm, 0]"),
+                  {"grains.bottom", "wall 'floor'"});
+}
+
 TEST_F(PeridemCli, TimeStepAboveTheStableOne) {
   expect_rejected(replace(small_input(out.string()), "time_step: 0.1 us", "time_step: 1 us"),
                   {"run.time_step", "1e-06", "stable step", "allow_unstable_time_step"});
@@ -332,6 +347,39 @@ TEST(PeridemCliRestart, UnstableRunStopsAndKeepsTheLastGoodCheckpoint) {
   EXPECT_EQ(back.health_check(), "");
   EXPECT_EQ(back.explosion_check(), "");
   EXPECT_GT(back.step_count(), 0);
+}
+
+// A grain placed into a wall (here 0.05 mm into the floor) is refused at set-up, naming both, with exit 2
+// and nothing written: run as it was, it left at 16 m/s with nearly all its bonds broken.
+TEST(PeridemCliSetUp, GrainPlacedIntoAWallIsRefused) {
+  const fs::path d = scratch("into_wall");
+  const std::string yaml = replace(small_input((d / "out").string()), "centre: [0, 1.18 mm, 0]", "centre: [0, 0.95 mm, 0]");
+  const Result r = run_peridem("-i " + write(d, "into_wall.yaml", yaml).string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  for (const char* m : {"grains.bottom", "wall 'floor'", "contact radius"})
+    EXPECT_NE(r.output.find(m), std::string::npos) << m << " in:\n" << r.output;
+  EXPECT_FALSE(fs::exists(d / "out" / "thermo.csv"));
+}
+
+// A grain passing through another (contact springs a million times too soft for a 10 m/s impact) stops
+// the run at the next check with exit 3, naming the two grains, and the checkpoint left is the last good one.
+TEST(PeridemCliRestart, DeepPenetrationStopsTheRun) {
+  const fs::path d = scratch("penetration");
+  std::string yaml = replace(small_input((d / "out").string()), "restitution: 0.95", "restitution: 0.95\n  stiffness_factor: 1e-6");
+  yaml = replace(yaml, "steps: 60", "steps: 1500");
+  yaml = replace(yaml, "  thermo_every: 20", "  thermo_every: 20\n  checkpoint_every: 20");
+  const Result r = run_peridem("-i " + write(d, "soft.yaml", yaml).string());
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  for (const char* m : {"stopped:", "'bottom'", "'top'", "penetration_limit 0.5", "passing through", "last good checkpoint"})
+    EXPECT_NE(r.output.find(m), std::string::npos) << m << " in:\n" << r.output;
+  debris::PeridemSimulation back = debris::PeridemSimulation::from_checkpoint((d / "out" / "checkpoint.h5").string());
+  EXPECT_EQ(back.penetration_check(0.5), "");
+  EXPECT_GT(back.step_count(), 100);  // they meet near step 150
+  // penetration_limit 1 never fires: the same run goes to its end.
+  yaml = replace(yaml, "time_step: 0.1 us", "time_step: 0.1 us\n  penetration_limit: 1");
+  yaml = replace(yaml, "steps: 1500", "steps: 400");
+  const Result off = run_peridem("-i " + write(d, "soft_off.yaml", yaml).string());
+  EXPECT_EQ(off.exit_code, 0) << off.output;
 }
 
 // The default inputs: every key of each is known and sound; the compressive decks load the paper's own

@@ -57,7 +57,7 @@ TEST(ThermoCsv, WrongRowSizeIsALogicError) {
 TEST(ThermoCsv, BadColumnsAndPaths) {
   EXPECT_THROW(ThermoCsv(::testing::TempDir() + "/debris_thermo_bad.csv", {"a,b"}), std::invalid_argument);
   EXPECT_THROW(ThermoCsv(::testing::TempDir() + "/debris_thermo_bad.csv", {}), std::invalid_argument);
-  EXPECT_THROW(ThermoCsv(::testing::TempDir() + "/no_such_dir_for_debris/t.csv", {"a"}), InputError);
+  EXPECT_THROW(ThermoCsv(::testing::TempDir() + "/no_such_dir_for_debris/t.csv", {"a"}), OutputError);
 }
 
 }  // namespace

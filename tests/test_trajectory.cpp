@@ -417,14 +417,14 @@ TEST(TrajectoryWriter, NewWriterTruncatesAndListsNoFrame) {
   EXPECT_TRUE(f.read_strings("group_names").empty());
 }
 
-TEST(TrajectoryWriter, BadOutputIsAnInputErrorAndUnnamedGroupIsRefused) {
+TEST(TrajectoryWriter, BadOutputIsAnOutputErrorAndUnnamedGroupIsRefused) {
   const std::string dir = fresh_dir("debris_traj_bad");
   try {
     TrajectoryWriter w(dir + "/no_such_subdir", "run", {});
     FAIL() << "created a trajectory in a missing directory";
-  } catch (const InputError& e) {
+  } catch (const OutputError& e) {
     const std::string msg = e.what();
-    EXPECT_NE(msg.find("'output'"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("output error"), std::string::npos) << msg;
     EXPECT_NE(msg.find(dir + "/no_such_subdir/run.h5"), std::string::npos) << msg;
   }
   EXPECT_THROW(TrajectoryWriter(dir, "a:b", {}), InputError);

@@ -13,7 +13,7 @@
 namespace debris {
 
 DumpWriter::DumpWriter(const std::string& path) : path_(path), out_(path, std::ios::binary | std::ios::trunc) {
-  if (!out_) throw input_error("output", path, std::string("cannot open for writing: ") + std::strerror(errno));
+  if (!out_) throw output_error(path, std::string("cannot open for writing: ") + std::strerror(errno));
 }
 
 void DumpWriter::write_frame(long step, const Box& box, const Particles& p) {
@@ -57,7 +57,7 @@ void DumpWriter::write_frame(long step, const Box& box, const Particles& p) {
   }
   out_.write(text.data(), static_cast<std::streamsize>(text.size()));
   out_.flush();
-  if (!out_) throw input_error("output", path_, "writing a frame failed (disk full?)");
+  if (!out_) throw output_error(path_, "writing a frame failed (disk full?)");
 }
 
 }  // namespace debris

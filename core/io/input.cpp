@@ -93,6 +93,25 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
   return d[a.size()][b.size()];
 }
 
+/// Nodes in the tree below `node`, itself included, with every alias expanded: what a walk of the tree
+/// (check_keys, the getters, an error message that prints a value) visits. An alias (*a) is the very node of
+/// its anchor (&a) in yaml-cpp, with the anchor's place in the file, so each distinct map or sequence is
+/// counted once and its count reused: the cost follows the text's size, however far nested aliases multiply.
+double expanded_nodes(const YAML::Node& node, std::map<std::pair<int, int>, double>& seen) {
+  if (!node.IsMap() && !node.IsSequence()) return 1.0;
+  const YAML::Mark mark = node.Mark();
+  const std::pair<int, int> key{mark.pos, static_cast<int>(node.Type())};
+  if (!mark.is_null())
+    if (const auto it = seen.find(key); it != seen.end()) return it->second;
+  double n = 1.0;
+  if (node.IsMap())
+    for (const auto& entry : node) n += 1.0 + expanded_nodes(entry.second, seen);
+  else
+    for (const auto& element : node) n += expanded_nodes(element, seen);
+  if (!mark.is_null()) seen[key] = n;
+  return n;
+}
+
 /// yaml-cpp keeps repeated keys and answers with the first; a repeated key is almost always a mistake.
 void check_keys(const YAML::Node& node, const std::string& path, const std::string& source) {
   if (node.IsMap()) {
@@ -135,6 +154,16 @@ InputNode InputNode::load_string(const std::string& yaml, const std::string& nam
   if (!root.IsMap())
     throw input_error("input file", name,
                       "the top level is " + kind(root) + "; expected a map of keys such as 'material:'");
+  {
+    // A "billion laughs" input (nested aliases, each repeating the one before ten times) is a few lines of
+    // text but a tree of 10^9 nodes: refused before anything walks it.
+    std::map<std::pair<int, int>, double> seen;
+    const double nodes = expanded_nodes(root, seen);
+    if (nodes > static_cast<double>(kMaxInputNodes))
+      throw input_error("input file", name,
+                        "expands to " + format_value(nodes) + " YAML nodes (aliases '*name' included), more than the " +
+                            std::to_string(kMaxInputNodes) + " an input may hold; are aliases nested in aliases?");
+  }
   check_keys(root, "", name);
   auto tracking = std::make_shared<Tracking>();
   tracking->source = name;
@@ -327,6 +356,11 @@ Vec3 InputNode::vec3(const std::string& key, units::Dimension dim, Vec3 fallback
 long InputNode::integer(const std::string& key) const {
   const auto v = require(key, "a whole number");
   return to_integer(v->node, v->path, v->location);
+}
+
+long InputNode::integer() const {
+  const Value v = self();
+  return to_integer(v.node, v.path, v.location);
 }
 
 long InputNode::integer(const std::string& key, long fallback) const {

@@ -20,6 +20,10 @@ namespace debris {
 /// directory, or unreadable.
 std::string read_input_file(const std::string& path);
 
+/// The most nodes an input file's tree may hold with its YAML aliases expanded (maps, sequences, keys and
+/// values each count one). Real inputs hold hundreds; nested aliases can make a few lines hold billions.
+constexpr long kMaxInputNodes = 1'000'000;
+
 class InputNode {
  public:
   /// InputError naming the path if the file is missing or unreadable, or the line and column of a syntax error.
@@ -57,6 +61,8 @@ class InputNode {
   /// A whole number; "1.5", "1e3" and "abc" are errors.
   long integer(const std::string& key) const;
   long integer(const std::string& key, long fallback) const;
+  /// This scalar node itself as a whole number (for the elements handed out by list()).
+  long integer() const;
 
   /// true/false (also yes/no, on/off).
   bool boolean(const std::string& key) const;

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <limits>
 #include <numbers>
 #include <numeric>
@@ -252,6 +253,22 @@ LammpsData read_lammps_data(const std::string& path, std::array<bool, 3> periodi
     p.iz[k] = a.iz;
     data.density.push_back(a.density);
   }
+  // An image count means nothing on an axis that is not periodic: LAMMPS resets it to 0 with a warning,
+  // and so does this reader (an unwrapped position x + ix L_x would otherwise be off by whole box lengths).
+  for (int axis = 0; axis < 3; ++axis) {
+    if (periodic[static_cast<std::size_t>(axis)]) continue;
+    std::vector<int>& image = axis == 0 ? p.ix : axis == 1 ? p.iy : p.iz;
+    std::size_t reset = 0;
+    for (int& c : image)
+      if (c != 0) {
+        c = 0;
+        ++reset;
+      }
+    if (reset > 0)
+      std::cerr << "warning: " << path << ": " << reset << " atom" << (reset == 1 ? " has" : "s have")
+                << " a nonzero image flag on the non-periodic " << "xyz"[axis]
+                << " axis; reset to 0, as LAMMPS does\n";
+  }
   std::vector<bool> has_velocity(p.size(), false);
   for (const VelocityRow& v : velocity_rows) {
     const auto it = index_of.find(v.id);
@@ -315,7 +332,7 @@ void write_lammps_data(const std::string& path, const Box& box, const Particles&
 
   const std::string tmp = path + ".tmp";
   std::ofstream file(tmp, std::ios::binary | std::ios::trunc);
-  if (!file) throw input_error("output", path, "cannot open '" + tmp + "' for writing: " + std::strerror(errno));
+  if (!file) throw output_error(path, "cannot open '" + tmp + "' for writing: " + std::strerror(errno));
   std::string out;
   // Lines are formatted into `out` and handed to the file a megabyte at a time.
   const auto drain = [&file, &out](std::size_t keep_below) {
@@ -371,10 +388,10 @@ void write_lammps_data(const std::string& path, const Box& box, const Particles&
   std::error_code ec;
   if (!file) {
     std::filesystem::remove(tmp, ec);
-    throw input_error("output", path, "writing '" + tmp + "' failed (disk full?)");
+    throw output_error(path, "writing '" + tmp + "' failed (disk full?)");
   }
   std::filesystem::rename(tmp, path, ec);
-  if (ec) throw input_error("output", path, "cannot rename '" + tmp + "' onto it: " + ec.message());
+  if (ec) throw output_error(path, "cannot rename '" + tmp + "' onto it: " + ec.message());
 }
 
 }  // namespace debris

@@ -34,7 +34,7 @@ NodeTrajectoryWriter::NodeTrajectoryWriter(const std::string& dir, const std::st
     file.flush();
     file.close();
   } catch (const std::runtime_error& e) {
-    throw input_error("output", h5_path_, e.what());
+    throw output_error(h5_path_, e.what());
   }
   write_xmf();
 }
@@ -53,7 +53,7 @@ void NodeTrajectoryWriter::write_frame(long step, double time, const PdNodes& no
     force[3 * i] = nodes.fx[i], force[3 * i + 1] = nodes.fy[i], force[3 * i + 2] = nodes.fz[i];
   }
   const std::size_t k = frames_.size();
-  {
+  try {
     // Open only inside this block; the frame is flushed before it is linked (trajectory_writer.cpp).
     h5::File file(h5_path_, h5::File::Mode::read_write, {.file_locking = false});
     {
@@ -69,6 +69,8 @@ void NodeTrajectoryWriter::write_frame(long step, double time, const PdNodes& no
       file.link(g, "frames/" + std::to_string(k));
     }
     file.close();
+  } catch (const std::runtime_error& e) {  // HDF5 cannot write: a full disk, a file size limit
+    throw output_error(h5_path_, e.what());
   }
   frames_.push_back({step, time});
   write_xmf();  // only now is frame k complete on disk

@@ -24,9 +24,9 @@ ThermoCsv::ThermoCsv(const std::string& path, std::vector<std::string> columns)
     header += (header.empty() ? "" : ",") + c;
   }
   out_.open(path, std::ios::binary | std::ios::trunc);
-  if (!out_) throw input_error("output", path, std::string("cannot open for writing: ") + std::strerror(errno));
+  if (!out_) throw output_error(path, std::string("cannot open for writing: ") + std::strerror(errno));
   out_ << header << '\n' << std::flush;
-  if (!out_) throw input_error("output", path, "writing the header failed (disk full?)");
+  if (!out_) throw output_error(path, "writing the header failed (disk full?)");
 }
 
 ThermoCsv::ThermoCsv(const std::string& path, std::vector<std::string> columns, long keep_up_to_step)
@@ -54,12 +54,12 @@ ThermoCsv::ThermoCsv(const std::string& path, std::vector<std::string> columns, 
   {
     std::ofstream t(tmp, std::ios::binary | std::ios::trunc);
     t << kept;
-    if (!t) throw input_error("output", tmp, "cannot write (disk full?)");
+    if (!t) throw output_error(tmp, "cannot write (disk full?)");
   }
   if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw input_error("output", path, std::string("cannot replace: ") + std::strerror(errno));
+    throw output_error(path, std::string("cannot replace: ") + std::strerror(errno));
   out_.open(path, std::ios::binary | std::ios::app);
-  if (!out_) throw input_error("output", path, std::string("cannot open for appending: ") + std::strerror(errno));
+  if (!out_) throw output_error(path, std::string("cannot open for appending: ") + std::strerror(errno));
 }
 
 void ThermoCsv::write_row(const std::vector<double>& values) {
@@ -74,7 +74,7 @@ void ThermoCsv::write_row(const std::vector<double>& values) {
   line += '\n';
   out_.write(line.data(), static_cast<std::streamsize>(line.size()));
   out_.flush();
-  if (!out_) throw input_error("output", path_, "writing a row failed (disk full?)");
+  if (!out_) throw output_error(path_, "writing a row failed (disk full?)");
 }
 
 }  // namespace debris

@@ -25,7 +25,7 @@ TrajectoryWriter::TrajectoryWriter(const std::string& dir, const std::string& st
     file.flush();
     file.close();
   } catch (const std::runtime_error& e) {
-    throw input_error("output", h5_path_, e.what());
+    throw output_error(h5_path_, e.what());
   }
   write_xmf();
 }
@@ -59,7 +59,7 @@ void TrajectoryWriter::write_frame(long step, double time, const Box& box, const
   }
 
   const std::size_t k = frames_.size();
-  {
+  try {
     // The file is open only inside this block: a kill between frames finds it closed and complete.
     // Within the block, a two-step commit: the frame is built as a group linked nowhere and flushed, so
     // its data and the new end of file are on disk before anything the file already held is touched;
@@ -89,6 +89,8 @@ void TrajectoryWriter::write_frame(long step, double time, const Box& box, const
       file.link(g, "frames/" + std::to_string(k));
     }
     file.close();
+  } catch (const std::runtime_error& e) {  // HDF5 cannot write: a full disk, a file size limit
+    throw output_error(h5_path_, e.what());
   }
   frames_.push_back({step, time, n});
   write_xmf();  // only now is frame k complete on disk

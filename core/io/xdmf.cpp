@@ -81,14 +81,13 @@ void replace_file(const std::string& path, const std::string& text, const char* 
   const std::string tmp = path + ".tmp";
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw input_error("output", tmp, std::string("cannot open for writing: ") + std::strerror(errno));
+    if (!out) throw output_error(tmp, std::string("cannot open for writing: ") + std::strerror(errno));
     out.write(text.data(), static_cast<std::streamsize>(text.size()));
     out.close();
-    if (!out) throw std::runtime_error(std::string(what) + ": writing " + tmp + " failed (disk full?)");
+    if (!out) throw output_error(tmp, std::string(what) + ": writing failed (disk full?)");
   }
   if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw std::runtime_error(std::string(what) + ": cannot rename " + tmp + " to " + path + ": " +
-                             std::strerror(errno));
+    throw output_error(path, std::string(what) + ": cannot rename " + tmp + " onto it: " + std::strerror(errno));
 }
 
 }  // namespace debris::xdmf

@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/exit_status.hpp"
 #include "core/exec.hpp"
 #include "core/io/input.hpp"
 #include "core/io/thermo_csv.hpp"
@@ -28,8 +29,6 @@ namespace {
 using namespace debris;
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-constexpr int kExitInput = 2;
 
 struct Config {
   AmorphousSpec base;
@@ -294,19 +293,6 @@ int main(int argc, char** argv) {
   app.add_option("-o,--output", opt.output, "output directory (overrides output.directory)");
   app.add_option("--threads", opt.threads, "number of host threads (overrides run.threads)")
       ->check(CLI::NonNegativeNumber);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : kExitInput;
-  }
-  try {
-    return run(opt);
-  } catch (const debris::InputError& e) {
-    std::cerr << e.what() << std::endl;
-    return kExitInput;
-  } catch (const std::exception& e) {
-    std::cerr << "debris_amorphous: error: " << e.what() << std::endl;
-    return 1;
-  }
+  if (const int status = debris::parse_command_line(app, argc, argv); status >= 0) return status;
+  return debris::exit_status_of("debris_amorphous", [&] { return run(opt); });
 }

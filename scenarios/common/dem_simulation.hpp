@@ -31,6 +31,10 @@
 
 namespace debris {
 
+namespace h5 {
+class File;
+}
+
 /// Which contact pass runs: the half-list host pass (each pair once, vectorised), or the
 /// full-list pass (each pair from both ends, no scatter: the GPU path and the reference).
 enum class PairPass { automatic, full, half };
@@ -151,6 +155,8 @@ class DemSimulation {
  private:
   struct Restored {};
   explicit DemSimulation(Restored) {}
+  /// from_checkpoint() once the file is known to be a checkpoint of a format this version reads.
+  static DemSimulation restore(const h5::File& f, std::string* input_echo);
   void compute_forces(int update_history);
   void rebuild(const std::vector<int>* order);
   void index_half_pass();  // pair table and pass scratch of the half-list pass, after a build

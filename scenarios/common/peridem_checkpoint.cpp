@@ -5,42 +5,51 @@
 //  - the bonds: rebuilt from the reference positions (BondList::build is deterministic), their row offsets
 //    checked against the saved ones, and the broken flags set from the saved list of broken entries;
 //  - the contact list: rebuilt from the node positions at its last build, so its rows and slots, the order
-//    of every force sum, and the moment of its next rebuild are those of the run that wrote it. Every build
-//    happens after the bonds broken in that step (the simulation rebuilds at once when one breaks), so the
-//    current broken flags are those the list was built with;
+//    of every force sum, and the moment of its next rebuild are those of the run that wrote it. Bonds that
+//    broke after the build were added to the list in place, which gives exactly the list a build at those
+//    positions with the current broken flags gives (rows ascending, core/pd_contact_list.hpp);
 //  - the integrator's first-step flag is step == 0; the stable step and h (eq 35) are saved, not
 //    recomputed (the stable step's power iteration is the slow part of a start).
 // The LPS constants and the contact table are derived from the saved materials, contact settings and h,
 // as the constructor derives them.
+//
+// The file is sealed with checksums and everything read is checked before it is used
+// (scenarios/common/checkpoint_file.hpp): a damaged or foreign file is an input error naming it.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 
 #include "core/error.hpp"
 #include "core/io/hdf5_file.hpp"
+#include "scenarios/common/checkpoint_file.hpp"
 #include "scenarios/common/peridem_simulation.hpp"
 
 namespace debris {
 
 namespace {
 
-constexpr std::int64_t kFormatVersion = 1;
+// 2: sealed with checksums. Format 1 files (unsealed) are still read, with the same checks of their contents.
+constexpr std::int64_t kFormatVersion = 2;
+constexpr std::int64_t kOldestFormat = 1;
 
 constexpr int kMaterialFields = 6;  // density, K, G, G_c, horizon, dimension
 constexpr int kContactFields = 6;   // radius factor, restitution, C, mu, stiffness factor, damping onset
 
-std::runtime_error corrupt(const std::string& path, const std::string& what) {
-  return std::runtime_error("checkpoint " + path + ": " + what);
+InputError corrupt(const std::string& path, const std::string& what) { return unsound_checkpoint(path, what); }
+
+bool all_finite(const std::vector<double>& v) {
+  return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
 }
 
 }  // namespace
 
 void PeridemSimulation::write_checkpoint(const std::string& path, const std::string& input_echo) const {
-  const std::string tmp = path + ".tmp";
-  {
+  write_checkpoint_file(path, [&](const std::string& tmp) {
     h5::File f(tmp, h5::File::Mode::create);
     f.set_attribute<std::int64_t>("format_version", kFormatVersion);
-    f.set_string_attribute("format", "debris PeriDEM checkpoint 1");
+    f.set_string_attribute("format", "debris PeriDEM checkpoint " + std::to_string(kFormatVersion));
     f.write_string("input", input_echo);
     // Each section in its own scope: HDF5 keeps a file open while anything opened from it lives.
     {
@@ -65,6 +74,9 @@ void PeridemSimulation::write_checkpoint(const std::string& path, const std::str
         mats.insert(mats.end(), {m.density, m.bulk_modulus, m.shear_modulus, m.fracture_energy, m.horizon,
                                  static_cast<double>(m.dimension)});
       set.write("materials", mats, materials_.size(), kMaterialFields);
+      std::vector<std::int32_t> compression;
+      for (const PdMaterial& m : materials_) compression.push_back(m.break_in_compression);
+      set.write("materials_break_in_compression", compression);
       std::vector<double> contact;
       for (const PdContactSettings& c : contact_settings_)
         contact.insert(contact.end(), {c.contact_radius_factor, c.restitution, c.damping_factor, c.friction,
@@ -114,19 +126,27 @@ void PeridemSimulation::write_checkpoint(const std::string& path, const std::str
       l.write("z_at_build", list_z_);
     }
     f.close();
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw std::runtime_error("checkpoint: cannot rename " + tmp + " to " + path + ": " + ec.message());
+  });
 }
 
 PeridemSimulation PeridemSimulation::from_checkpoint(const std::string& path, std::string* input_echo) {
-  if (!std::filesystem::exists(path)) throw input_error("restart", path, "no such checkpoint file");
-  h5::File f(path, h5::File::Mode::read_only);
-  if (!f.has_attribute("format_version") || !f.has("bonds"))
-    throw input_error("restart", path, "is not a debris_peridem checkpoint");
-  if (f.attribute<std::int64_t>("format_version") != kFormatVersion)
-    throw input_error("restart", path, "written by an incompatible version of debris");
+  return read_checkpoint_file(path, "debris_peridem", [&](bool sealed) {
+    h5::File f(path, h5::File::Mode::read_only);
+    if (!f.has_attribute("format_version") || !f.has("bonds") || !f.has_attribute("format") ||
+        f.string_attribute("format").rfind("debris PeriDEM checkpoint", 0) != 0)
+      throw input_error("restart", path, "is not a debris_peridem checkpoint");
+    const auto version = f.attribute<std::int64_t>("format_version");
+    if (version < kOldestFormat || version > kFormatVersion)
+      throw input_error("restart", path,
+                        "has checkpoint format " + std::to_string(version) + "; this debris_peridem reads formats " +
+                            std::to_string(kOldestFormat) + " to " + std::to_string(kFormatVersion));
+    if (!sealed && version >= 2) throw corrupt(path, "its checksums are missing (was the end of the file cut off?)");
+    return restore(f, input_echo);
+  });
+}
+
+PeridemSimulation PeridemSimulation::restore(const h5::File& f, std::string* input_echo) {
+  const std::string& path = f.file_path();
   if (input_echo) *input_echo = f.read_string("input");
 
   PeridemSimulation sim{Restored{}};
@@ -137,10 +157,16 @@ PeridemSimulation PeridemSimulation::from_checkpoint(const std::string& path, st
     const auto g = set.read<double>("gravity").values;
     if (g.size() != 3) throw corrupt(path, "settings/gravity is not 3 values");
     sim.settings_.gravity = {g[0], g[1], g[2]};
-    sim.settings_.damping = static_cast<PdDamping>(set.read_scalar<std::int32_t>("damping"));
+    const auto damping = set.read_scalar<std::int32_t>("damping");
+    if (damping != static_cast<int>(PdDamping::node_pairs) && damping != static_cast<int>(PdDamping::grain_centres))
+      throw corrupt(path, "settings/damping is no known damping");
+    sim.settings_.damping = static_cast<PdDamping>(damping);
     sim.settings_.skin = set.read_scalar<double>("skin");
+    if (!std::isfinite(sim.settings_.time_step) || !all_finite(g) || !std::isfinite(sim.settings_.skin))
+      throw corrupt(path, "settings/ holds a non-finite time step, gravity or skin");
     const auto mats = set.read<double>("materials").values;
     if (mats.empty() || mats.size() % kMaterialFields != 0) throw corrupt(path, "settings/materials has a bad shape");
+    if (!all_finite(mats)) throw corrupt(path, "settings/materials holds a non-finite value");
     for (std::size_t k = 0; k < mats.size(); k += kMaterialFields) {
       PdMaterial m;
       m.density = mats[k];
@@ -148,12 +174,22 @@ PeridemSimulation PeridemSimulation::from_checkpoint(const std::string& path, st
       m.shear_modulus = mats[k + 2];
       m.fracture_energy = mats[k + 3];
       m.horizon = mats[k + 4];
+      if (mats[k + 5] != 2.0 && mats[k + 5] != 3.0)
+        throw corrupt(path, "settings/materials gives a dimension not 2 or 3");
       m.dimension = static_cast<int>(mats[k + 5]);
       sim.materials_.push_back(m);
+    }
+    // Absent from checkpoints written before the setting existed: bonds broke in tension only then.
+    if (set.has("materials_break_in_compression")) {
+      const auto compression = set.read<std::int32_t>("materials_break_in_compression").values;
+      if (compression.size() != sim.materials_.size())
+        throw corrupt(path, "settings/materials_break_in_compression does not match the materials");
+      for (std::size_t k = 0; k < compression.size(); ++k) sim.materials_[k].break_in_compression = compression[k] != 0;
     }
     const auto contact = set.read<double>("contact").values;
     if (contact.empty() || contact.size() % kContactFields != 0)
       throw corrupt(path, "settings/contact has a bad shape");
+    if (!all_finite(contact)) throw corrupt(path, "settings/contact holds a non-finite value");
     for (std::size_t k = 0; k < contact.size(); k += kContactFields) {
       PdContactSettings c;
       c.contact_radius_factor = contact[k];
@@ -164,6 +200,10 @@ PeridemSimulation PeridemSimulation::from_checkpoint(const std::string& path, st
       c.damping_onset_factor = contact[k + 5];
       sim.contact_settings_.push_back(c);
     }
+    const std::size_t nm = sim.materials_.size();
+    if (sim.contact_settings_.size() != 1 && sim.contact_settings_.size() != nm * nm)
+      throw corrupt(path, "settings/contact holds " + std::to_string(sim.contact_settings_.size()) + " settings for " +
+                              std::to_string(nm) + " materials");
   }
   {
     const h5::Group state = f.open_group("state");
@@ -174,6 +214,10 @@ PeridemSimulation PeridemSimulation::from_checkpoint(const std::string& path, st
     sim.mesh_size_ = state.read_scalar<double>("mesh_size");
     sim.stable_dt_ = state.read_scalar<double>("stable_time_step");
     sim.skin_ = state.read_scalar<double>("skin");
+    if (sim.step_ < 0 || !std::isfinite(sim.time_) || sim.broken_total_ < 0 || sim.rebuilds_ < 0 ||
+        !std::isfinite(sim.mesh_size_) || !(sim.mesh_size_ > 0) || !std::isfinite(sim.stable_dt_) ||
+        !(sim.stable_dt_ > 0) || !std::isfinite(sim.skin_) || sim.skin_ < 0)
+      throw corrupt(path, "state/ holds an impossible step, time, count, mesh size, stable time step or skin");
   }
   {
     const h5::Group nodes = f.open_group("nodes");
@@ -188,6 +232,15 @@ PeridemSimulation PeridemSimulation::from_checkpoint(const std::string& path, st
     sim.nodes_.for_each_column([&](const char* name, auto& col) {
       if (col.size() != n) throw corrupt(path, std::string("nodes/") + name + " has another length than nodes/id");
     });
+    if (n == 0) throw corrupt(path, "it holds no nodes");
+    std::vector<std::int64_t> ids(sim.nodes_.id.begin(), sim.nodes_.id.end());
+    std::sort(ids.begin(), ids.end());
+    if (std::adjacent_find(ids.begin(), ids.end()) != ids.end()) throw corrupt(path, "nodes/id holds a repeated id");
+    for (std::size_t i = 0; i < n; ++i)
+      if (!(sim.nodes_.volume[i] > 0) || !std::isfinite(sim.nodes_.volume[i]) || !(sim.nodes_.mass[i] > 0) ||
+          !std::isfinite(sim.nodes_.mass[i]) || sim.nodes_.fixed[i] < 0 || sim.nodes_.fixed[i] > 7)
+        throw corrupt(path, "node id " + std::to_string(sim.nodes_.id[i]) +
+                                " has a volume or mass that is not positive, or an unknown fixed mask");
   }
   {
     const h5::Group g = f.open_group("grains");
@@ -212,11 +265,22 @@ PeridemSimulation PeridemSimulation::from_checkpoint(const std::string& path, st
     for (const std::size_t s : {gr.node_end.size(), gr.kind.size(), gr.material.size(), gr.volume.size(), gr.cx.size(),
                                 gr.wall_vz.size(), sim.grain_names_.size()})
       if (s != ng) throw corrupt(path, "the grain arrays have different lengths");
-    for (std::size_t k = 0; k < ng; ++k)
+    if (ng == 0) throw corrupt(path, "it holds no grains");
+    // The grains own consecutive ranges of nodes that cover them all, and each node names its grain.
+    for (std::size_t k = 0; k < ng; ++k) {
       if (gr.material[k] < 0 || static_cast<std::size_t>(gr.material[k]) >= sim.materials_.size() ||
-          gr.node_begin[k] < 0 || gr.node_end[k] < gr.node_begin[k] ||
-          static_cast<std::size_t>(gr.node_end[k]) > sim.nodes_.size())
-        throw corrupt(path, "grain " + std::to_string(k) + " does not fit the nodes or materials");
+          gr.node_begin[k] != (k == 0 ? 0 : gr.node_end[k - 1]) || gr.node_end[k] < gr.node_begin[k] ||
+          static_cast<std::size_t>(gr.node_end[k]) > sim.nodes_.size() ||
+          (gr.kind[k] != static_cast<int>(PdGrainKind::particle) && gr.kind[k] != static_cast<int>(PdGrainKind::wall)))
+        throw corrupt(path, "grain " + std::to_string(k) + " does not fit the nodes, materials or grain kinds");
+      for (int i = gr.node_begin[k]; i < gr.node_end[k]; ++i)
+        if (sim.nodes_.grain[static_cast<std::size_t>(i)] != static_cast<int>(k))
+          throw corrupt(path, "node id " + std::to_string(sim.nodes_.id[static_cast<std::size_t>(i)]) +
+                                  " names grain " + std::to_string(sim.nodes_.grain[static_cast<std::size_t>(i)]) +
+                                  " but lies in the nodes of grain " + std::to_string(k));
+    }
+    if (static_cast<std::size_t>(gr.node_end[ng - 1]) != sim.nodes_.size())
+      throw corrupt(path, "the grains do not cover all the nodes");
   }
 
   // Derived data, as the constructor derives it.

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <optional>
 
@@ -12,9 +14,19 @@
 #include "core/io/gmsh_msh.hpp"
 #include "core/io/grain_csv.hpp"
 #include "core/io/input.hpp"
+#include "core/memory_budget.hpp"
 #include "core/shape_mesh.hpp"
 
 namespace debris {
+
+namespace {
+// The memory a node surely takes: its columns (21 doubles, 2 ints, an int64 id) and its position at the
+// contact list's last build (3 doubles). A lower bound, so that the check never refuses a system that fits:
+// the bonds come on top, and their number per node varies with the horizon (measured peaks: the 500-grain
+// deck, 12.6 bonds per node, 160 bytes per node above a 2-disc run; two discs meshed at horizon / 20,
+// 400 bonds per node, 7.7 KiB per node).
+constexpr double kPdBytesPerNode = 24 * sizeof(double) + 2 * sizeof(int) + sizeof(std::int64_t);
+}  // namespace
 
 namespace {
 
@@ -54,23 +66,6 @@ fs::path resolve(const std::string& file, const std::string& base) {
 }
 
 // ---- materials ----------------------------------------------------------------------------------------
-
-PdMaterial read_material(const InputNode& n, int dimension) {
-  PdMaterial m;
-  m.density = n.quantity("density", u::density);
-  m.bulk_modulus = n.quantity("bulk_modulus", u::pressure);
-  m.shear_modulus = n.quantity("shear_modulus", u::pressure);
-  m.fracture_energy = n.quantity("fracture_energy", u::surface_energy);
-  m.horizon = n.quantity("horizon", u::length);
-  m.dimension = dimension;
-  // plane_strain: the 2D constants that give a grain the material's K and G (kernels/pd_material.hpp);
-  // peridem_code: the 3D constants on the 2D grain, as the authors' code (and so the paper's runs) does.
-  if (dimension == 2) {
-    if (n.choice("lps_constants", {"plane_strain", "peridem_code"}, "plane_strain") == "peridem_code") m.dimension = 3;
-  }
-  m.validate(n.path().c_str());
-  return m;
-}
 
 // ---- shapes ---------------------------------------------------------------------------------------------
 
@@ -361,6 +356,26 @@ PeridemStageChanges read_stage_changes(const InputNode& st, const std::vector<Wa
 
 }  // namespace
 
+PdMaterial read_pd_material(const InputNode& n, int dimension) {
+  PdMaterial m;
+  m.density = n.quantity("density", u::density);
+  m.bulk_modulus = n.quantity("bulk_modulus", u::pressure);
+  m.shear_modulus = n.quantity("shear_modulus", u::pressure);
+  m.fracture_energy = n.quantity("fracture_energy", u::surface_energy);
+  m.horizon = n.quantity("horizon", u::length);
+  m.dimension = dimension;
+  // plane_strain: the 2D constants that give a grain the material's K and G (kernels/pd_material.hpp);
+  // peridem_code: the 3D constants on the 2D grain, as the authors' code (and so the paper's runs) does.
+  if (dimension == 2) {
+    if (n.choice("lps_constants", {"plane_strain", "peridem_code"}, "plane_strain") == "peridem_code") m.dimension = 3;
+  }
+  // tension: eq 11 as the paper writes it; tension_and_compression: the authors' code, |s| >= s_0.
+  m.break_in_compression =
+      n.choice("bond_breaking", {"tension", "tension_and_compression"}, "tension") == "tension_and_compression";
+  m.validate(n.path().c_str());
+  return m;
+}
+
 PeridemRunConfig read_peridem_input(const std::string& path, const PeridemInputOptions& options) {
   const InputNode root = InputNode::load_file(path);
   return read_peridem_input(root, fs::path(path).parent_path().string(), options);
@@ -384,7 +399,7 @@ PeridemRunConfig read_peridem_input(const InputNode& root, const std::string& ba
   for (const std::string& k : mats.keys()) {
     check_name(k, "materials." + k);
     cfg.material_names.push_back(k);
-    cfg.materials.push_back(read_material(mats.child(k), dim));
+    cfg.materials.push_back(read_pd_material(mats.child(k), dim));
   }
   if (cfg.materials.empty()) throw input_error("materials", "(empty)", "define at least one material");
 
@@ -490,6 +505,11 @@ PeridemRunConfig read_peridem_input(const InputNode& root, const std::string& ba
   if (!(cfg.settings.skin >= 0))
     throw input_error("run.skin", format_value(cfg.settings.skin), "must be >= 0 (0: R_c)");
   cfg.settings.allow_unstable_time_step = run.boolean("allow_unstable_time_step", false);
+  cfg.penetration_limit = run.quantity("penetration_limit", u::dimensionless, cfg.penetration_limit);
+  if (!(cfg.penetration_limit > 0 && cfg.penetration_limit <= 1))
+    throw input_error("run.penetration_limit", format_value(cfg.penetration_limit),
+                      "must be in (0, 1]: the depth R_c - |z' - z|, as a fraction of R_c, past which a node pair "
+                      "of two bodies stops the run (1: never)");
   cfg.threads = static_cast<int>(run.integer("threads", 0));
   if (cfg.threads < 0) throw input_error("run.threads", std::to_string(cfg.threads), "must be >= 0");
 
@@ -518,14 +538,34 @@ PeridemRunConfig read_peridem_input(const InputNode& root, const std::string& ba
   // The system: every key is known to be sound; now the files.
   MeshCache meshes(shapes, (fs::path(cfg.output.directory) / "meshes").string(), dim);
   const int planar_bit = dim == 2 ? 4 : 0;  // 2D: nodes stay in z = 0
+  std::vector<GrainRecord> records;
+  std::vector<ReferenceGrain> refs;
   if (!zones.empty()) {
     if (!fs::exists(csv_path)) throw input_error("particle_file.file", csv_path, "no such file");
-    const std::vector<GrainRecord> records = read_grain_csv(csv_path);
+    records = read_grain_csv(csv_path);
     if (records.empty()) throw input_error("particle_file.file", csv_path, "lists no grain");
-    std::vector<ReferenceGrain> refs;
     for (std::size_t z = 0; z < zones.size(); ++z)
       refs.push_back(
           meshes.reference(zones[z].shape, zones[z].material, "particle_file.zones[" + std::to_string(z) + "]"));
+  }
+  {
+    // The nodes of every grain and wall, counted from their meshes before any is placed: a system too
+    // large for int indices or for the machine's memory is refused here.
+    double nodes = 0;
+    for (const GrainRecord& r : records)
+      if (r.zone >= 0 && static_cast<std::size_t>(r.zone) < refs.size())
+        nodes += static_cast<double>(refs[static_cast<std::size_t>(r.zone)].volume.size());
+    for (std::size_t k = 0; k < listed.size(); ++k)
+      nodes += static_cast<double>(
+          meshes.reference(listed[k].shape, listed[k].material, "grains[" + std::to_string(k) + "]").volume.size());
+    for (const WallInput& w : walls) nodes += static_cast<double>(meshes.mesh(w.shape).nodes.size());
+    const std::string shown = format_value(nodes) + " nodes";
+    if (nodes > static_cast<double>(std::numeric_limits<int>::max()))
+      throw input_error("grains", shown, "more nodes than debris can index (" +
+                                             std::to_string(std::numeric_limits<int>::max()) + ")");
+    check_memory("grains", shown, nodes, kPdBytesPerNode, "node");
+  }
+  if (!zones.empty()) {
     place_grains(refs, records, cfg.nodes, cfg.grains);
     // place_grains goes zone by zone, file order within a zone (core/grain_placement.hpp).
     int g = 0;

@@ -9,7 +9,8 @@
 //   dimension: 2                                  # 2 (plane strain, z = 0) or 3
 //   materials:                                    # by name
 //     M1: {density: 1200 kg/m^3, bulk_modulus: 0.0216 GPa, shear_modulus: 0.01296 GPa,
-//          fracture_energy: 50 J/m^2, horizon: 0.6 mm, lps_constants: plane_strain}   # or peridem_code (2D)
+//          fracture_energy: 50 J/m^2, horizon: 0.6 mm, lps_constants: plane_strain,   # or peridem_code (2D)
+//          bond_breaking: tension}              # or tension_and_compression (|s| >= s_0, the authors' code)
 //   shapes:                                       # by name; Gmsh shapes (core/shape_mesh.hpp) or files
 //     disc:  {type: circle, radius: 1 mm, mesh_size: 0.2 mm}                   # also sphere (3D)
 //     hex:   {type: hexagon, radius: 1 mm, mesh_size: 0.2 mm, axis: [1, 0, 0]}
@@ -36,7 +37,7 @@
 //   gravity: [0, -10 m/s^2, 0]
 //   stages: [...]                                 # optional: see PeridemStageChanges below
 //   run: {time_step: 0.1 us, steps: 1000 (or final_time: 1 ms; with stages optional), skin: 0 (R_c), threads: 0,
-//         allow_unstable_time_step: false}
+//         allow_unstable_time_step: false, penetration_limit: 0.5}
 //   output: {directory: out, thermo_every: 100, trajectory_every: 0, checkpoint_every: 0,
 //            progress_seconds: 10, grain_columns: 8}
 //
@@ -103,6 +104,7 @@ struct PeridemRunConfig {
   std::vector<StageLength> stages;
   std::vector<PeridemStageChanges> stage_changes;  // one per stage
   int threads = 0;                       // 0 = OpenMP default
+  double penetration_limit = 0.5;        // health check: a node pair closer than (1 - this) R_c stops the run
   PeridemOutputSettings output;
 };
 
@@ -113,6 +115,10 @@ struct PeridemInputOptions {
   /// Replaces output.directory (the runner's -o) before anything uses it.
   std::string output_directory;
 };
+
+/// One material of a `materials:` section (density, moduli, fracture energy, horizon, lps_constants,
+/// bond_breaking), validated; InputError naming the key and the value.
+PdMaterial read_pd_material(const InputNode& n, int dimension);
 
 /// Reads the whole file; InputError naming the key and the value for anything missing, malformed, out of
 /// range or unknown.

@@ -104,7 +104,8 @@ double pd_mesh_size(const PdNodes& nodes, const PdGrains& grains) {
 }
 
 PeridemSimulation::PeridemSimulation(PdNodes nodes, PdGrains grains, std::vector<PdMaterial> materials,
-                                     std::vector<PdContactSettings> contact, PeridemSettings settings)
+                                     std::vector<PdContactSettings> contact, PeridemSettings settings,
+                                     std::vector<std::string> names)
     : nodes_(std::move(nodes)),
       grains_(std::move(grains)),
       materials_(std::move(materials)),
@@ -183,8 +184,35 @@ PeridemSimulation::PeridemSimulation(PdNodes nodes, PdGrains grains, std::vector
   skin_ = settings_.skin > 0 ? settings_.skin : table_.max_contact_radius();
   for (std::size_t g = 0; g < grains_.size(); ++g)
     grain_names_.push_back((is_particle(grains_, static_cast<int>(g)) ? "grain" : "wall") + std::to_string(g));
+  if (!names.empty()) set_grain_names(std::move(names));
   rebuild_contacts();
+  refuse_grains_in_walls();
   compute_forces();
+}
+
+// Every particle-wall node pair within R_c is in the contact list just built (cutoff R_c + skin).
+void PeridemSimulation::refuse_grains_in_walls() const {
+  const std::vector<int>& off = list_.offset();
+  const std::vector<int>& idx = list_.index();
+  for (int i = 0; i < list_.rows(); ++i) {
+    const int gi = nodes_.grain[i];
+    if (!is_particle(grains_, gi)) continue;
+    for (int k = off[i]; k < off[i + 1]; ++k) {
+      const int j = idx[k], gj = nodes_.grain[j];
+      if (is_particle(grains_, gj)) continue;
+      const double rc = table_.pair(grains_.material[gi], grains_.material[gj]).r_c;
+      const double dx = nodes_.x[j] - nodes_.x[i], dy = nodes_.y[j] - nodes_.y[i], dz = nodes_.z[j] - nodes_.z[i];
+      const double dist = std::sqrt(dx * dx + dy * dy + dz * dz);
+      if (dist < rc)
+        throw input_error("grains." + grain_names_[static_cast<std::size_t>(gi)], "placed on wall '" +
+                              grain_names_[static_cast<std::size_t>(gj)] + "'",
+                          "its node " + std::to_string(nodes_.id[i]) + " at (" + format_value(nodes_.x[i]) + ", " +
+                              format_value(nodes_.y[i]) + ", " + format_value(nodes_.z[i]) + ") m is " +
+                              format_value(dist) + " m from wall node " + std::to_string(nodes_.id[j]) +
+                              ", within the contact radius " + format_value(rc) +
+                              " m: the grain would be thrown out of the wall at once; move it clear of the wall");
+    }
+  }
 }
 
 void PeridemSimulation::rebuild_contacts() {
@@ -207,10 +235,14 @@ void PeridemSimulation::compute_forces() {
   const long broke = pd_bond_step(lps_, grains_, bonds_, nodes_);
   times_.bonds += seconds_since(t0);
   // Both callers hand over a list that is fresh for these positions (just built, or checked by step()), so
-  // only a broken bond makes it stale here: its two nodes may now touch (self-contact).
+  // only a broken bond makes it stale here: its two nodes may now touch (self-contact). The list takes
+  // their pairs in place (a full rebuild here cost 13-18 ms against an 11 ms step on the 502-grain deck).
   if (broke > 0) {
     broken_total_ += broke;
-    rebuild_contacts();
+    t0 = Clock::now();
+    list_.add_broken_bonds(bonds_);
+    ++times_.self_contact_updates;
+    times_.neighbours += seconds_since(t0);
   }
   t0 = Clock::now();
   pd_contact_pass(table_, settings_.damping, nodes_, grains_, list_, work_, settings_.time_step);
@@ -370,6 +402,32 @@ long PeridemSimulation::touching_pairs() const {
       if (dx * dx + dy * dy + dz * dz < rc * rc) ++touching;
     }
   return touching;
+}
+
+std::string PeridemSimulation::penetration_check(double limit) const {
+  const std::vector<int>& off = list_.offset();
+  const std::vector<int>& idx = list_.index();
+  for (int i = 0; i < list_.rows(); ++i) {
+    const int gi = nodes_.grain[i];
+    for (int k = off[i]; k < off[i + 1]; ++k) {
+      const int j = idx[k], gj = nodes_.grain[j];
+      if (j <= i || gj == gi) continue;  // each pair once; self-contact inside a broken grain is not a body pair
+      const double rc = table_.pair(grains_.material[gi], grains_.material[gj]).r_c;
+      const double dx = nodes_.x[j] - nodes_.x[i], dy = nodes_.y[j] - nodes_.y[i], dz = nodes_.z[j] - nodes_.z[i];
+      const double dist = std::sqrt(dx * dx + dy * dy + dz * dz);
+      if (rc - dist > limit * rc) {
+        std::ostringstream os;
+        os << "step " << step_ << ": node " << nodes_.id[i] << " of '" << grain_names_[static_cast<std::size_t>(gi)]
+           << "' and node " << nodes_.id[j] << " of '" << grain_names_[static_cast<std::size_t>(gj)] << "' are "
+           << dist << " m apart, " << (rc - dist) / rc << " of the contact radius " << rc
+           << " m deep (run.penetration_limit " << limit
+           << "): one body is passing through the other (a time step too large for the speeds, or a stiffness "
+              "too small for the load)";
+        return os.str();
+      }
+    }
+  }
+  return {};
 }
 
 std::string PeridemSimulation::health_check() const {

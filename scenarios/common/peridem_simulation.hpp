@@ -22,6 +22,10 @@
 
 namespace debris {
 
+namespace h5 {
+class File;
+}
+
 struct PeridemSettings {
   double time_step = 0;                   // s, > 0
   bool allow_unstable_time_step = false;  // the user insists on a step above the stable one
@@ -38,6 +42,7 @@ struct PeridemPassTimes {
   double contact = 0;      // contact forces and damping
   double other = 0;        // zeroing forces, gravity
   long rebuilds = 0;       // contact list rebuilds in that time
+  long self_contact_updates = 0;  // steps whose broken bonds were added to the list in place
 };
 
 /// Sums over the system at one instant.
@@ -56,9 +61,13 @@ class PeridemSimulation {
   /// `nodes` and `grains` as placed (core/grain_placement.hpp): masses are set here from the grains'
   /// materials. `contact` holds one PdContactSettings for every pair of materials (or one for all).
   /// Validates everything (InputError naming the key and value), builds the bonds, the weighted volumes,
-  /// the contact list, and evaluates the forces at step 0.
+  /// the contact list, and evaluates the forces at step 0. A particle node closer to a wall node than their
+  /// contact radius R_c is an InputError naming the grain and the wall (a grain placed into a wall would be
+  /// thrown out at once). `names`: one per grain and wall (messages and output columns), or empty for
+  /// "grain<k>" / "wall<k>".
   PeridemSimulation(PdNodes nodes, PdGrains grains, std::vector<PdMaterial> materials,
-                    std::vector<PdContactSettings> contact, PeridemSettings settings);
+                    std::vector<PdContactSettings> contact, PeridemSettings settings,
+                    std::vector<std::string> names = {});
 
   void step();
   void run(long steps);
@@ -121,6 +130,11 @@ class PeridemSimulation {
   /// Damage Z of eq 14 into nodes().damage for the current positions (diagnostics() does this too), and
   /// optionally each node's fraction of broken bonds into `broken_fraction` (nodes().size() values).
   void refresh_damage(double* broken_fraction = nullptr);
+  /// Empty unless a node pair of two bodies (two grains, or a grain and a wall) is closer than
+  /// (1 - limit) R_c: a penetration far deeper than any contact force allows in a sound run (the contact
+  /// spring holds pairs to a few per cent of R_c), so a grain is passing through another or through a wall.
+  /// Names the step, the bodies and the nodes. limit in (0, 1]; 1 never fires.
+  std::string penetration_check(double limit) const;
   /// Empty unless some particle node moves farther than the contact radius R_c in one step (|v| dt > R_c):
   /// contacts would be stepped over, so the run has blown up (or its time step is far too large for the
   /// speeds). Names the step and the node.
@@ -138,8 +152,11 @@ class PeridemSimulation {
  private:
   struct Restored {};
   explicit PeridemSimulation(Restored) {}
+  /// from_checkpoint() once the file is known to be a checkpoint of a format this version reads.
+  static PeridemSimulation restore(const h5::File& f, std::string* input_echo);
   void compute_forces();
   void rebuild_contacts();
+  void refuse_grains_in_walls() const;
 
   PdNodes nodes_;
   PdGrains grains_;

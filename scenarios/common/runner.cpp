@@ -1,7 +1,6 @@
 #include "scenarios/common/runner.hpp"
 
 #include <CLI/CLI.hpp>
-
 #include <chrono>
 #include <filesystem>
 #include <iomanip>
@@ -9,6 +8,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/exit_status.hpp"
 #include "core/io/input.hpp"
 #include "core/io/progress.hpp"
 #include "core/io/thermo_csv.hpp"
@@ -51,108 +51,133 @@ int run_plan(RunPlan& plan, const std::string& program, const RunOptions& opt, C
 
   namespace fs = std::filesystem;
   const fs::path dir = plan.directory;
-  fs::create_directories(dir);
-  const auto cols = model.thermo_columns();
-  ThermoCsv thermo = plan.restored ? ThermoCsv((dir / "thermo.csv").string(), cols, first_step)
-                                   : ThermoCsv((dir / "thermo.csv").string(), cols);
-  const std::string suffix = plan.restored ? ".restart" + std::to_string(first_step) : "";
-  model.open_frames(dir.string(), suffix);
   const std::string checkpoint = (dir / "checkpoint.h5").string();
-
-  // The pass table counts the stepping only: what the passes held after the set-up is subtracted.
-  const std::vector<PassTime> setup_times = model.pass_times();
-  const double setup_seconds = seconds_since(started);
-  const auto t0 = Clock::now();
-  double output_seconds = 0.0;
-  long last_checkpoint = -1;
-  auto due = [](long every, long step) { return every > 0 && step % every == 0; };
-  auto stage_starts = [&](long step) { return step < last_step ? stages.stage_starting_at(step) : -1; };
-
-  auto write_outputs = [&](bool final_step) {
-    const auto o0 = Clock::now();
-    const long step = model.step_count();
-    const bool first = step == first_step;
-    if (due(plan.thermo_every, step) || final_step || first) {
-      const auto row = model.thermo_row();
-      if (!(plan.restored && first)) thermo.write_row(row);
-      model.print_thermo(cols, row, first);
-    }
-    if (final_step || first || model.frame_due(step)) model.write_frame(final_step || first);
-    // A checkpoint at each stage boundary too (before the stage's changes): a later stage can be rerun from it.
-    const bool boundary = step > 0 && stage_starts(step) > 0;
-    if ((final_step || due(plan.checkpoint_every, step) || boundary) && step != last_checkpoint &&
-        !(plan.restored && first)) {
-      model.write_checkpoint(checkpoint, plan.input_text);
-      last_checkpoint = step;
-    }
-    output_seconds += seconds_since(o0);
-  };
-  auto begin_stage = [&](long step) {
-    const int k = stage_starts(step);
-    if (k < 0) return;
-    const std::string what = model.apply_stage(k);
-    std::cout << "stage " << k << " '" << stages.names[static_cast<std::size_t>(k)] << "' starts at step " << step
-              << (what.empty() ? std::string() : ": " + what) << std::endl;
-  };
-
-  // Stage changes come after a step's outputs: a checkpoint holds the state before them, and a restart
-  // from it makes them exactly as this run does (stages.hpp).
-  if (!plan.restored) begin_stage(first_step);
-  write_outputs(last_step == first_step);
-  if (plan.restored) begin_stage(first_step);
-  Progress progress(first_step, last_step, std::cout, plan.progress_seconds);
-  while (model.step_count() < last_step) {
-    model.step();
-    const long step = model.step_count();
-    const bool final_step = step == last_step;
-    if (final_step || due(plan.thermo_every, step) || model.frame_due(step) || due(plan.checkpoint_every, step) ||
-        stage_starts(step) > 0) {
-      const std::string problem = model.health_check();
-      if (!problem.empty()) {
-        std::cerr << program << ": stopped: " << problem << "\n"
-                  << program << ": the last good checkpoint is "
-                  << (last_checkpoint >= 0 ? checkpoint + " (step " + std::to_string(last_checkpoint) + ")"
-                                           : std::string("none (set output.checkpoint_every)"))
-                  << std::endl;
-        return kExitUnfinished;
-      }
-    }
-    write_outputs(final_step);
-    begin_stage(step);
-    progress.update(step, model.items());
+  // The checkpoint a stopped run names: the last one this run wrote, or the one it restarted from when
+  // that is the file it would overwrite.
+  std::string last_good = "none (set output.checkpoint_every)";
+  {
+    std::error_code ec;
+    if (plan.restored && fs::equivalent(opt.restart, checkpoint, ec))
+      last_good = checkpoint + " (step " + std::to_string(first_step) + ")";
   }
-
-  const std::string report = model.closing_report();
-  if (!report.empty()) std::cout << report << "\n";
-
-  // The pass table: set-up, each pass while stepping, output, and the rest (checks, stage changes, the
-  // loop itself), so the shares add up to the total.
-  const double stepping = seconds_since(t0);
-  const double wall = setup_seconds + stepping;
-  std::vector<PassTime> rows = model.pass_times();
-  for (std::size_t k = 0; k < rows.size() && k < setup_times.size(); ++k) rows[k].seconds -= setup_times[k].seconds;
-  double accounted = output_seconds;
-  for (const PassTime& r : rows) accounted += r.seconds;
-  auto line = [&](const std::string& name, double s, const std::string& extra) {
-    std::cout << std::left << std::setw(13) << name << std::right << std::setw(10) << std::fixed
-              << std::setprecision(3) << s << std::setw(8) << std::setprecision(1)
-              << (wall > 0 ? 100 * s / wall : 0) << "%" << (extra.empty() ? "" : "  " + extra) << "\n"
-              << std::defaultfloat;
+  auto stop = [&](const std::string& problem) {
+    std::cerr << program << ": stopped: " << problem << "\n"
+              << program << ": the last good checkpoint is " << last_good << std::endl;
+    return kExitUnfinished;
   };
-  std::cout << "\npass            seconds   share\n";
-  line("set-up", setup_seconds, "(input, system, first forces, output files)");
-  for (const PassTime& r : rows) line(r.name, r.seconds, r.note);
-  line("output", output_seconds, "(thermo, frames, checkpoints)");
-  line("rest", std::max(0.0, stepping - accounted), "(health checks, stage changes, loop)");
-  std::ostringstream rate;
-  const double steps = static_cast<double>(last_step - first_step);
-  rate << std::setprecision(3)
-       << (stepping > 0 ? static_cast<double>(model.items()) * steps / stepping / 1e6 : 0.0) << " M "
-       << model.item_name() << "-steps/s while stepping";
-  line("total", wall, rate.str());
-  std::cout << "output written to " << dir.string() << "/ (thermo.csv, " << model.frame_files(suffix)
-            << ", checkpoint.h5)\n";
-  return 0;
+  auto due = [](long every, long step) { return every > 0 && step % every == 0; };
+  try {
+    {
+      std::error_code ec;
+      fs::create_directories(dir, ec);
+      if (ec) throw output_error(dir.string(), "cannot create the output directory: " + ec.message());
+    }
+    const auto cols = model.thermo_columns();
+    // A restart keeps the rows up to its checkpoint's step, but the row at that step only where the run
+    // in one piece has it too (a thermo step, the first, or the last): the run that wrote the checkpoint
+    // ended there and wrote a row that is not due.
+    const bool keep_first_row = due(plan.thermo_every, first_step) || first_step == 0 || last_step == first_step;
+    ThermoCsv thermo =
+        plan.restored ? ThermoCsv((dir / "thermo.csv").string(), cols, keep_first_row ? first_step : first_step - 1)
+                      : ThermoCsv((dir / "thermo.csv").string(), cols);
+    const std::string suffix = plan.restored ? ".restart" + std::to_string(first_step) : "";
+    model.open_frames(dir.string(), suffix);
+
+    // The pass table counts the stepping only: what the passes held after the set-up is subtracted.
+    const std::vector<PassTime> setup_times = model.pass_times();
+    const double setup_seconds = seconds_since(started);
+    const auto t0 = Clock::now();
+    double output_seconds = 0.0;
+    long last_checkpoint = -1;
+    auto stage_starts = [&](long step) { return step < last_step ? stages.stage_starting_at(step) : -1; };
+
+    auto write_outputs = [&](bool final_step) {
+      const auto o0 = Clock::now();
+      const long step = model.step_count();
+      const bool first = step == first_step;
+      if (due(plan.thermo_every, step) || final_step || first) {
+        const auto row = model.thermo_row();
+        if (!(plan.restored && first)) thermo.write_row(row);
+        model.print_thermo(cols, row, first);
+      }
+      if (final_step || first || model.frame_due(step)) model.write_frame(final_step || first);
+      // A checkpoint at each stage boundary too (before the stage's changes): a later stage can be rerun from it.
+      const bool boundary = step > 0 && stage_starts(step) > 0;
+      if ((final_step || due(plan.checkpoint_every, step) || boundary) && step != last_checkpoint &&
+          !(plan.restored && first)) {
+        model.write_checkpoint(checkpoint, plan.input_text);
+        last_checkpoint = step;
+        last_good = checkpoint + " (step " + std::to_string(step) + ")";
+      }
+      output_seconds += seconds_since(o0);
+    };
+    auto begin_stage = [&](long step) {
+      const int k = stage_starts(step);
+      if (k < 0) return;
+      const std::string what = model.apply_stage(k);
+      std::cout << "stage " << k << " '" << stages.names[static_cast<std::size_t>(k)] << "' starts at step " << step
+                << (what.empty() ? std::string() : ": " + what) << std::endl;
+    };
+
+    // Stage changes come after a step's outputs: a checkpoint holds the state before them, and a restart
+    // from it makes them exactly as this run does (stages.hpp).
+    if (!plan.restored) begin_stage(first_step);
+    write_outputs(last_step == first_step);
+    if (plan.restored) begin_stage(first_step);
+    Progress progress(first_step, last_step, std::cout, plan.progress_seconds);
+    while (model.step_count() < last_step) {
+      model.step();
+      const long step = model.step_count();
+      const bool final_step = step == last_step;
+      if (final_step || due(plan.thermo_every, step) || model.frame_due(step) || due(plan.checkpoint_every, step) ||
+          stage_starts(step) > 0) {
+        const std::string problem = model.health_check();
+        if (!problem.empty()) return stop(problem);
+      }
+      write_outputs(final_step);
+      begin_stage(step);
+      progress.update(step, model.items());
+    }
+
+    const std::string report = model.closing_report();
+    if (!report.empty()) std::cout << report << "\n";
+
+    // The pass table: set-up, each pass while stepping, output, and the rest (checks, stage changes, the
+    // loop itself), so the shares add up to the total.
+    const double stepping = seconds_since(t0);
+    const double wall = setup_seconds + stepping;
+    std::vector<PassTime> rows = model.pass_times();
+    for (std::size_t k = 0; k < rows.size() && k < setup_times.size(); ++k) rows[k].seconds -= setup_times[k].seconds;
+    double accounted = output_seconds;
+    for (const PassTime& r : rows) accounted += r.seconds;
+    auto line = [&](const std::string& name, double s, const std::string& extra) {
+      std::cout << std::left << std::setw(13) << name << std::right << std::setw(10) << std::fixed
+                << std::setprecision(3) << s << std::setw(8) << std::setprecision(1) << (wall > 0 ? 100 * s / wall : 0)
+                << "%" << (extra.empty() ? "" : "  " + extra) << "\n"
+                << std::defaultfloat;
+    };
+    std::cout << "\npass            seconds   share\n";
+    line("set-up", setup_seconds, "(input, system, first forces, output files)");
+    for (const PassTime& r : rows) line(r.name, r.seconds, r.note);
+    line("output", output_seconds, "(thermo, frames, checkpoints)");
+    line("rest", std::max(0.0, stepping - accounted), "(health checks, stage changes, loop)");
+    std::ostringstream rate;
+    const double steps = static_cast<double>(last_step - first_step);
+    rate << std::setprecision(3) << (stepping > 0 ? static_cast<double>(model.items()) * steps / stepping / 1e6 : 0.0)
+         << " M " << model.item_name() << "-steps/s while stepping";
+    line("total", wall, rate.str());
+    std::cout << "output written to " << dir.string() << "/ (thermo.csv, " << model.frame_files(suffix)
+              << ", checkpoint.h5)\n";
+    return 0;
+  } catch (const InputError&) {
+    throw;  // a stage that cannot be applied: bad input
+  } catch (const std::bad_alloc&) {
+    return stop("out of memory at step " + std::to_string(model.step_count()));
+  } catch (const std::exception& e) {
+    // An output that cannot be written (a full disk, a file size limit, a file where a directory should
+    // be): the run cannot finish, and nothing it wrote before is touched.
+    return stop("at step " + std::to_string(model.step_count()) + ": " + e.what());
+  }
 }
 
 }  // namespace
@@ -181,23 +206,18 @@ int run_main(int argc, char** argv, const std::string& program, const std::strin
                  "from -i or the input it keeps)");
   app.add_option("--threads", opt.threads, "number of host threads (overrides run.threads)")
       ->check(CLI::NonNegativeNumber);
-  CLI11_PARSE(app, argc, argv);
+  if (const int status = parse_command_line(app, argc, argv); status >= 0) return status;
   if (opt.input.empty() && opt.restart.empty()) {
-    std::cerr << program << ": give an input file (-i run.yaml) or a checkpoint (--restart checkpoint.h5); --help "
+    std::cerr << program
+              << ": give an input file (-i run.yaml) or a checkpoint (--restart checkpoint.h5); --help "
                  "for more\n";
     return kExitInput;
   }
-  try {
+  return exit_status_of(program, [&] {
     const auto started = Clock::now();
     RunPlan plan = prepare(opt);
     return run_plan(plan, program, opt, started);
-  } catch (const InputError& e) {
-    std::cerr << program << ": " << e.what() << std::endl;
-    return kExitInput;
-  } catch (const std::exception& e) {
-    std::cerr << program << ": error: " << e.what() << std::endl;
-    return 1;
-  }
+  });
 }
 
 }  // namespace debris

@@ -14,12 +14,11 @@
 #include <string>
 #include <vector>
 
+#include "core/error.hpp"  // kExitInput, kExitUnfinished
 #include "scenarios/common/stages.hpp"
 
 namespace debris {
 
-constexpr int kExitInput = 2;       // bad input: nothing was written
-constexpr int kExitUnfinished = 3;  // the run could not finish (non-finite or exploding state)
 
 /// The command line every executable takes.
 struct RunOptions {

@@ -73,6 +73,7 @@ TwoParticleDropResult run_two_particle_drop(const TwoParticleDrop& spec) {
 
   TwoParticleDropResult r;
   r.nodes = static_cast<long>(sim.nodes().size());
+  r.mesh_h = sim.mesh_size();
   bool touched = false;
   long first_touch = -1, last_touch = -1, free_rising = 0;
   double max_gap_after = 0.0;

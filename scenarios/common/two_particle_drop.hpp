@@ -49,6 +49,7 @@ struct TwoParticleDropResult {
   double max_damage = 0;               // Z of eq 14, both grains, largest over the run
   double bottom_max_damage = 0, top_max_damage = 0;  // the same per grain, over the contact
   long nodes = 0;
+  double mesh_h = 0;                   // h of eq 35 (m): the smallest node spacing of the meshes
   double wall_seconds = 0;
 };
 

@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/exit_status.hpp"
 #include "core/io/input.hpp"
 #include "core/exec.hpp"
 #include "core/io/progress.hpp"
@@ -29,8 +30,6 @@ using namespace debris;
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-constexpr int kExitInput = 2;   // bad input
-constexpr int kExitFailed = 3;  // some case could not finish
 
 struct Options {
   std::string input, output;
@@ -165,7 +164,7 @@ int run(const Options& opt) {
     std::cerr << "debris_patch: " << failed << " case(s) could not finish:\n";
     for (const PatchCaseResult& r : results)
       if (!r.ok) std::cerr << "  case " << r.c.index << " (" << describe_case(r.c) << "): " << r.error << "\n";
-    return kExitFailed;
+    return kExitUnfinished;
   }
   return 0;
 }
@@ -180,14 +179,6 @@ int main(int argc, char** argv) {
   app.add_option("-i,--input", opt.input, "YAML input file")->required();
   app.add_option("-o,--output", opt.output, "output directory (overrides output.directory)");
   app.add_option("--threads", opt.threads, "number of host threads (overrides threads)")->check(CLI::NonNegativeNumber);
-  CLI11_PARSE(app, argc, argv);
-  try {
-    return run(opt);
-  } catch (const debris::InputError& e) {
-    std::cerr << e.what() << std::endl;
-    return kExitInput;
-  } catch (const std::exception& e) {
-    std::cerr << "debris_patch: error: " << e.what() << std::endl;
-    return 1;
-  }
+  if (const int status = debris::parse_command_line(app, argc, argv); status >= 0) return status;
+  return debris::exit_status_of("debris_patch", [&] { return run(opt); });
 }

@@ -154,6 +154,7 @@ class PeridemRunModel final : public RunModel {
   std::string health_check() override {
     std::string problem = sim_.health_check();
     if (problem.empty()) problem = sim_.explosion_check();
+    if (problem.empty()) problem = sim_.penetration_check(cfg_.penetration_limit);
     return problem;
   }
   std::vector<std::string> thermo_columns() const override {
@@ -223,7 +224,9 @@ class PeridemRunModel final : public RunModel {
   std::vector<PassTime> pass_times() const override {
     const PeridemPassTimes& t = sim_.times();
     std::ostringstream builds;  // not "(" + std::to_string(..): GCC 12 warns (-Wrestrict) falsely on that
-    builds << "(" << t.rebuilds << " contact list builds in all)";
+    builds << "(" << t.rebuilds << " contact list builds in all";
+    if (t.self_contact_updates > 0) builds << ", " << t.self_contact_updates << " updates for broken bonds";
+    builds << ")";
     return {{"integration", t.integration, ""},
             {"neighbours", t.neighbours, builds.str()},
             {"bonds", t.bonds, ""},
@@ -264,8 +267,8 @@ RunPlan prepare(const RunOptions& opt) {
   // The system is validated here (time step against the stable one, ...) before any output is opened.
   std::optional<PeridemSimulation> built;
   if (!restored) {
-    built.emplace(std::move(cfg.nodes), std::move(cfg.grains), cfg.materials, cfg.contact, cfg.settings);
-    built->set_grain_names(cfg.grain_names);
+    built.emplace(std::move(cfg.nodes), std::move(cfg.grains), cfg.materials, cfg.contact, cfg.settings,
+                  cfg.grain_names);
   }
   PeridemSimulation& sim = restored ? *restored : *built;
   std::cout << sim.summary() << "\n";

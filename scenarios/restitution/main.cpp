@@ -12,31 +12,17 @@
 #include <map>
 
 #include "core/error.hpp"
+#include "core/exit_status.hpp"
 #include "core/exec.hpp"
 #include "core/io/input.hpp"
 #include "core/units.hpp"
+#include "scenarios/common/peridem_input.hpp"
 #include "scenarios/common/two_particle_drop.hpp"
 
 namespace {
 
 using namespace debris;
 namespace u = debris::units;
-
-PdMaterial read_material(const InputNode& n, int dimension) {
-  PdMaterial m;
-  m.density = n.quantity("density", u::density);
-  m.bulk_modulus = n.quantity("bulk_modulus", u::pressure);
-  m.shear_modulus = n.quantity("shear_modulus", u::pressure);
-  m.fracture_energy = n.quantity("fracture_energy", u::surface_energy);
-  m.horizon = n.quantity("horizon", u::length);
-  m.dimension = dimension;
-  // plane_strain: the 2D constants that give a grain the material's K and G (kernels/pd_material.hpp);
-  // peridem_code: the 3D constants on the 2D grain, as the authors' code (and so the paper's tables) does.
-  if (n.choice("lps_constants", {"plane_strain", "peridem_code"}, "plane_strain") == "peridem_code") m.dimension = 3;
-  n.reject_unknown_keys();
-  m.validate(n.path().c_str());
-  return m;
-}
 
 struct Case {
   std::string name;
@@ -51,7 +37,7 @@ int run(const std::string& input, const std::string& output, int threads) {
   if (dimension != 2) throw input_error("dimension", std::to_string(dimension), "only 2 is supported by this scenario");
   std::map<std::string, PdMaterial> materials;
   const InputNode mats = root.child("materials");
-  for (const std::string& k : mats.keys()) materials[k] = read_material(mats.child(k), dimension);
+  for (const std::string& k : mats.keys()) materials[k] = read_pd_material(mats.child(k), dimension);
 
   TwoParticleDrop base;
   base.mesh_size = root.quantity("mesh_size", u::length, base.mesh_size);
@@ -89,6 +75,16 @@ int run(const std::string& input, const std::string& output, int threads) {
     k.spec.restitution = c.quantity("restitution", u::dimensionless);
     k.spec.time_step = c.quantity("time_step", u::time);
     k.spec.initial_speed = c.quantity("initial_speed", u::velocity, 0.0);
+    // A mesh study (Table 4) refines the mesh and the horizon together, case by case.
+    k.spec.mesh_size = c.quantity("mesh_size", u::length, base.mesh_size);
+    if (!(k.spec.mesh_size > 0) || !std::isfinite(k.spec.mesh_size))
+      throw input_error(c.path() + ".mesh_size", format_value(k.spec.mesh_size), "must be > 0");
+    if (c.has("horizon")) {
+      const double horizon = c.quantity("horizon", u::length);
+      if (!(horizon > 0) || !std::isfinite(horizon))
+        throw input_error(c.path() + ".horizon", format_value(horizon), "must be > 0");
+      k.spec.bottom_material.horizon = k.spec.top_material.horizon = horizon;
+    }
     k.paper = c.quantity("paper", u::dimensionless, -1.0);
     c.reject_unknown_keys();
     cases.push_back(k);
@@ -100,10 +96,10 @@ int run(const std::string& input, const std::string& output, int threads) {
   std::filesystem::create_directories(output);
   const std::string csv_path = (std::filesystem::path(output) / "restitution.csv").string();
   std::ofstream csv(csv_path);
-  if (!csv) throw input_error("output", output, "cannot create restitution.csv there");
+  if (!csv) throw output_error(csv_path, "cannot create it");
   csv << "case,bottom_radius_m,top_radius_m,materials,restitution_parameter,time_step_s,initial_speed_m_s,"
          "paper_C_R,debris_C_R,difference,rebound_height_m,contact_time_s,steps,nodes,broken_bonds,"
-         "bottom_max_damage,top_max_damage,wall_seconds\n";
+         "bottom_max_damage,top_max_damage,wall_seconds,mesh_h_m,horizon_m\n";
   std::printf("%-16s %-9s %-7s %5s %8s %7s %9s %9s %8s %8s %8s %8s\n", "case", "(R1,R2)mm", "mat", "eps", "dt_us",
               "v0", "paper", "debris", "diff", "Z_bot", "Z_top", "wall_s");
   for (const Case& k : cases) {
@@ -115,8 +111,10 @@ int run(const std::string& input, const std::string& output, int threads) {
     csv << ',' << r.restitution_coefficient << ',';
     if (k.paper >= 0) csv << diff;
     csv << ',' << r.rebound_height << ',' << r.contact_time << ',' << r.steps << ',' << r.nodes << ',' << r.broken_bonds
-        << ',' << r.bottom_max_damage << ',' << r.top_max_damage << ',' << r.wall_seconds << '\n';
+        << ',' << r.bottom_max_damage << ',' << r.top_max_damage << ',' << r.wall_seconds << ',' << r.mesh_h << ','
+        << k.spec.top_material.horizon << '\n';
     csv.flush();
+    if (!csv) throw output_error(csv_path, "writing a row failed (disk full?)");
     char radii[32];
     std::snprintf(radii, sizeof radii, "(%g,%g)", k.spec.bottom_radius * 1e3, k.spec.top_radius * 1e3);
     std::printf("%-16s %-9s %-7s %5.2f %8.3f %7.2f %9s %9.4f %8s %8.3g %8.3g %8.1f\n", k.name.c_str(), radii,
@@ -139,14 +137,6 @@ int main(int argc, char** argv) {
   app.add_option("-i,--input", input, "YAML input (cases)")->required();
   app.add_option("-o,--output", output, "output directory");
   app.add_option("--threads", threads, "OpenMP threads (0: default)");
-  CLI11_PARSE(app, argc, argv);
-  try {
-    return run(input, output, threads);
-  } catch (const debris::InputError& e) {
-    std::cerr << "debris_restitution: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "debris_restitution: " << e.what() << "\n";
-    return 1;
-  }
+  if (const int status = debris::parse_command_line(app, argc, argv); status >= 0) return status;
+  return debris::exit_status_of("debris_restitution", [&] { return run(input, output, threads); });
 }

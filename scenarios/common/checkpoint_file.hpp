@@ -1,0 +1,75 @@
+#pragma once
+// What the two executables' checkpoints share around their contents: writing through `path`.tmp, sealed
+// with checksums (core/io/hdf5_seal.hpp) and synced before it is renamed over the previous checkpoint;
+// reading only after the seal is checked; and one error for whatever is wrong with a checkpoint.
+//
+// Every problem with a checkpoint given to --restart is bad input (InputError, exit 2) naming the file and
+// what is wrong, never a crash or a run from a state that is not the one written: a changed byte fails
+// the seal (naming the dataset it falls in), and what a sealed or older unsealed file holds is checked
+// (sizes agree, indices in range, ids unique, enumerations known) before anything uses it. A checkpoint
+// that cannot be written is an OutputError (exit 3); the previous one is left as it was.
+#include <filesystem>
+#include <new>
+#include <string>
+
+#include "core/error.hpp"
+#include "core/io/hdf5_seal.hpp"
+
+namespace debris {
+
+/// "input error: 'restart' = <path>: is not a sound checkpoint: <what>".
+inline InputError unsound_checkpoint(const std::string& path, const std::string& what) {
+  return input_error("restart", path, "is not a sound checkpoint: " + what);
+}
+
+/// Throws unsound_checkpoint(path, what) unless `ok`.
+inline void check_checkpoint(bool ok, const std::string& path, const std::string& what) {
+  if (!ok) throw unsound_checkpoint(path, what);
+}
+
+/// Checks that `path` exists and its seal (if it has one) holds, then returns read(sealed), turning what
+/// escapes it into an InputError naming the file. `kind` ("debris_dem") is for the messages.
+template <class Read>
+auto read_checkpoint_file(const std::string& path, const std::string& kind, Read&& read) {
+  if (!std::filesystem::exists(path)) throw input_error("restart", path, "no such checkpoint file");
+  bool sealed = false;
+  try {
+    sealed = h5::verify_seal(path);
+  } catch (const std::exception& e) {
+    throw InputError("input error: 'restart': " + std::string(e.what()) +
+                     "; restart from an earlier checkpoint, or run again from the input");
+  }
+  try {
+    return read(sealed);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw unsound_checkpoint(path, "its sizes do not fit in memory");
+  } catch (const std::exception& e) {
+    throw input_error("restart", path, "cannot be read as a " + kind + " checkpoint: " + e.what());
+  }
+}
+
+/// Calls write(tmp) to write the checkpoint's HDF5 file `path`.tmp and close it, seals it, and renames it
+/// over `path`. On any failure the temporary file is removed, `path` is untouched, and an OutputError
+/// names it.
+template <class Write>
+void write_checkpoint_file(const std::string& path, Write&& write) {
+  const std::string tmp = path + ".tmp";
+  try {
+    write(tmp);
+    h5::seal(tmp);
+  } catch (const std::exception& e) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    throw output_error(path, std::string("cannot write the checkpoint (the previous one is kept): ") + e.what());
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw output_error(path, "cannot rename " + tmp + " onto it (the previous checkpoint is kept): " + ec.message());
+  }
+}
+
+}  // namespace debris

@@ -1,0 +1,118 @@
+#!/usr/bin/python3
+"""compression.csv, the pressure plot and the damage pictures of a debris_peridem compression run.
+
+    /usr/bin/python3 scenarios/peridem/compression.py OUT_DIR [--press-start 0.06] [--lid-speed 0.06]
+        [--lid-length 68.94e-3] [--window 1e-3] [--marks 0.102,0.118,0.126,0.134] [--pictures DIR]
+
+OUT_DIR is the run's output directory (thermo.csv, trajectory.h5). Defaults are those of
+compression_n500.yaml (paper B, section 4.4): the lid is placed at t = 0.06 s and moves down at 0.06 m/s;
+the lid is 68.94 mm long; the paper's t1-t4 are marked.
+
+compression.csv, one row per thermo row from the press on:
+  time (s), lid_travel (m): how far the lid has gone down since it was placed,
+  lid_force (N/m): the grains' push on the lid, +y, as debris reports it; in 2D every force is per metre of
+    thickness (node volumes are areas), so this is a force per unit length of the out-of-plane axis,
+  lid_pressure (Pa): lid_force / lid length, the mean normal stress under the lid,
+  lid_force_avg, lid_pressure_avg: the same averaged over the window (centred, --window seconds; the
+    instantaneous force of a pack of bouncing grains is noise, the paper averages too),
+  broken_bonds, max_damage (Z of eq 14).
+Pictures (PNG, headless): pressure against lid travel with the marks, and the pack coloured by damage at the
+frames nearest to each mark. Needs numpy, matplotlib and h5py (Debian: python3-numpy python3-matplotlib
+python3-h5py).
+"""
+import argparse
+import csv
+import os
+import sys
+
+import numpy as np
+
+
+def read_thermo(path):
+    with open(path) as f:
+        rows = list(csv.reader(f))
+    head = rows[0]
+    data = np.array([[float(x) for x in r] for r in rows[1:]])
+    return {name: data[:, k] for k, name in enumerate(head)}
+
+
+def centred_mean(t, v, window):
+    out = np.empty_like(v)
+    for k in range(len(t)):
+        sel = np.abs(t - t[k]) <= 0.5 * window
+        out[k] = v[sel].mean()
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("out_dir")
+    ap.add_argument("--press-start", type=float, default=0.06, help="time the lid is placed and set moving (s)")
+    ap.add_argument("--lid-speed", type=float, default=0.06, help="lid speed (m/s)")
+    ap.add_argument("--lid-length", type=float, default=68.94e-3, help="lid length (m)")
+    ap.add_argument("--lid", default="lid", help="the lid's wall name (thermo columns <lid>_fy)")
+    ap.add_argument("--window", type=float, default=1e-3, help="averaging window (s)")
+    ap.add_argument("--marks", default="0.102,0.118,0.126,0.134", help="times to mark and picture (s)")
+    ap.add_argument("--pictures", default=None, help="where the PNGs go (default: OUT_DIR)")
+    args = ap.parse_args()
+
+    th = read_thermo(os.path.join(args.out_dir, "thermo.csv"))
+    col = args.lid + "_fy"
+    if col not in th:
+        sys.exit("compression.py: thermo.csv has no column %s" % col)
+    keep = th["time"] >= args.press_start - 1e-12
+    t = th["time"][keep]
+    force = th[col][keep]
+    travel = args.lid_speed * (t - args.press_start)
+    pressure = force / args.lid_length
+    force_avg = centred_mean(t, force, args.window)
+    pressure_avg = force_avg / args.lid_length
+    broken = th["broken_bonds"][keep]
+    damage = th["max_damage"][keep]
+    out_csv = os.path.join(args.out_dir, "compression.csv")
+    with open(out_csv, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["time", "lid_travel", "lid_force", "lid_pressure", "lid_force_avg", "lid_pressure_avg",
+                    "broken_bonds", "max_damage"])
+        for row in zip(t, travel, force, pressure, force_avg, pressure_avg, broken, damage):
+            w.writerow(["%.9g" % x for x in row])
+    print("wrote %s (%d rows, t = %.4g to %.4g s)" % (out_csv, len(t), t[0] if len(t) else 0, t[-1] if len(t) else 0))
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    pic_dir = args.pictures or args.out_dir
+    os.makedirs(pic_dir, exist_ok=True)
+    marks = [float(x) for x in args.marks.split(",") if x]
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(1e3 * travel, 1e-3 * pressure, color="0.8", lw=0.5, label="instantaneous")
+    ax.plot(1e3 * travel, 1e-3 * pressure_avg, color="C0", lw=1.5, label="averaged over %.3g ms" % (1e3 * args.window))
+    for k, m in enumerate(marks):
+        if t.size and t[0] <= m <= t[-1]:
+            ax.axvline(1e3 * args.lid_speed * (m - args.press_start), color="C3", lw=0.8, ls="--")
+            ax.text(1e3 * args.lid_speed * (m - args.press_start), ax.get_ylim()[1] * 0.95, " t%d" % (k + 1),
+                    color="C3", va="top")
+    ax.set_xlabel("lid travel since placed (mm)")
+    ax.set_ylabel("lid pressure (kPa, force per m of thickness / lid length)")
+    ax2 = ax.twinx()
+    ax2.plot(1e3 * travel, broken, color="C1", lw=1.0)
+    ax2.set_ylabel("broken bonds", color="C1")
+    ax.legend(loc="upper left", fontsize=8)
+    fig.tight_layout()
+    png = os.path.join(pic_dir, "compression_pressure.png")
+    fig.savefig(png, dpi=110)
+    print("wrote " + png)
+
+    if os.path.exists(os.path.join(args.out_dir, "trajectory.h5")):
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        from damage_picture import damage_pictures
+
+        labels = ["t%d = %.4g s" % (k + 1, m) for k, m in enumerate(marks)]
+        for png in damage_pictures(args.out_dir, marks, "compression_damage_t", pic_dir, labels):
+            print("wrote " + png)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
