@@ -374,7 +374,7 @@ DemSimulation& poly_system(int classes, int skin_pm) {
   DemSettings settings = base.settings();
   settings.size_classes = classes;
   // skin_pm: > 0 in pm, 0 the engine's default, -1 the default before size classes (0.2 r_min).
-  const std::vector<double>& r = base.particles().radius;
+  const auto& r = base.particles().radius;
   settings.skin = skin_pm >= 0 ? skin_pm * 1e-12 : 0.2 * *std::min_element(r.begin(), r.end());
   slot = std::make_unique<DemSimulation>(base.box(), base.particles(), Groups{}, settings);
   slot->run(kPolyWarmUpSteps);

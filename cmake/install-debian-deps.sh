@@ -2,13 +2,18 @@
 # Installs the Debian 12 packages debris builds with (nothing is downloaded at configure time).
 #   --tests  also what the whole test suite needs: ParaView's pvpython (python3-paraview, about 1.2 GB
 #            installed), which opens the HDF5/XDMF trajectory in the ParaViewOpensTrajectory test.
+#   --hostdevice  also clang 19 with OpenMP offload to the host CPU as a separate device (the
+#            DEBRIS_OFFLOAD=hostdevice configuration; about 30 s). libomp-19-dev replaces libomp-14-dev and
+#            libomp-dev (clang 14's OpenMP runtime); the host build uses GCC's libgomp and is not affected.
 # Skips apt entirely when everything is already there; uses sudo only when not root.
 set -euo pipefail
 with_tests=0
+with_hostdevice=0
 for arg in "$@"; do
   case "$arg" in
     --tests) with_tests=1 ;;
-    *) echo "install-debian-deps.sh: unknown option '$arg' (valid: --tests)" >&2; exit 2 ;;
+    --hostdevice) with_hostdevice=1 ;;
+    *) echo "install-debian-deps.sh: unknown option '$arg' (valid: --tests, --hostdevice)" >&2; exit 2 ;;
   esac
 done
 packages=(
@@ -22,6 +27,8 @@ packages=(
   python3-matplotlib     # the sheared-junction pictures (scenarios/wear/plot.py)
 )
 [ "$with_tests" -eq 0 ] || packages+=(python3-paraview)
+# clang-offload-packager comes from clang-tools-19; libomptarget and its x86_64 plugin from libomp-19-dev.
+[ "$with_hostdevice" -eq 0 ] || packages+=(clang-19 clang-tools-19 libomp-19-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

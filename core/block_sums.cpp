@@ -1,31 +1,21 @@
 #include "core/block_sums.hpp"
 
-#include "core/exec.hpp"
-
 namespace debris {
 
-BlockPartials& BlockPartials::operator=(BlockPartials&& o) noexcept {
-  if (this != &o) {
-    release();
-    v_.swap(o.v_);
-  }
-  return *this;
-}
-
 double* BlockPartials::reserve(std::size_t n) {
-  if (v_.size() < n) {
-    release();
-    v_.resize(n);
-    exec::device_enter(v_.data(), n * sizeof(double));
-  }
+  // The allocator enters a new buffer on the device and deletes the old one (offload builds).
+  if (v_.size() < n) v_.resize(n);
   return v_.data();
 }
 
-void BlockPartials::to_host(std::size_t n) { exec::update_host(v_.data(), n * sizeof(double)); }
+void BlockPartials::to_host(std::size_t n) const { exec::to_host(v_, n); }
 
-void BlockPartials::release() {
-  if (!v_.empty()) exec::device_exit(v_.data(), v_.size() * sizeof(double));
-  std::vector<double>().swap(v_);
+void BlockPartials::add_up(int blocks, int k, double* out) const {
+  for (int q = 0; q < k; ++q) out[q] = 0.0;
+  for (int b = 0; b < blocks; ++b) {
+    const double* s = v_.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(b);
+    for (int q = 0; q < k; ++q) out[q] += s[q];
+  }
 }
 
 }  // namespace debris

@@ -1,5 +1,7 @@
 #include "core/box.hpp"
 
+#include "core/exec.hpp"
+
 #include <sstream>
 
 #include "core/error.hpp"
@@ -58,6 +60,36 @@ void Box::wrap(Particles& p) const {
       }
     }
   }
+}
+
+void Box::wrap_resident(Particles& p) const {
+#if defined(DEBRIS_OFFLOAD_TARGET)
+  const BoxView b = view();
+  double* pos[3] = {p.x.data(), p.y.data(), p.z.data()};
+  int* img[3] = {p.ix.data(), p.iy.data(), p.iz.data()};
+  const int n = static_cast<int>(p.size());
+  for (int a = 0; a < 3; ++a) {
+    if (!b.periodic[a]) continue;
+    double* x = pos[a];
+    int* im = img[a];
+    const double lo = b.lo[a], len = b.len[a];
+    DEBRIS_RESIDENT(x, im);
+    DEBRIS_KERNEL
+    for (int i = 0; i < n; ++i) {
+      const double shift = std::floor((x[i] - lo) / len);
+      if (shift != 0.0) {
+        x[i] -= shift * len;
+        im[i] += static_cast<int>(shift);
+        if (x[i] >= lo + len) {
+          x[i] -= len;
+          im[i] += 1;
+        }
+      }
+    }
+  }
+#else
+  wrap(p);
+#endif
 }
 
 void Box::deform(Vec3 new_lo, Vec3 new_hi, Particles& p) {

@@ -51,6 +51,9 @@ class Box {
 
   /// Folds every particle on a periodic axis back into [lo, hi), counting the crossings in its image flags.
   void wrap(Particles& p) const;
+  /// The same on the device copies (offload builds: a kernel per periodic axis, same arithmetic, same bits);
+  /// wrap() in host builds.
+  void wrap_resident(Particles& p) const;
 
   /// Moves the box to [new_lo, new_hi) and maps every particle position affinely with it.
   void deform(Vec3 new_lo, Vec3 new_hi, Particles& p);

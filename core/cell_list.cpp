@@ -58,6 +58,7 @@ void CellList::build(const BoxView& box, const double* x, const double* y, const
   const double inv0 = 1.0 / edge_[0], inv1 = 1.0 / edge_[1], inv2 = 1.0 / edge_[2];
   const int n0 = dims_[0], n1 = dims_[1], n2 = dims_[2];
   const int p0 = box.periodic[0], p1 = box.periodic[1], p2 = box.periodic[2];
+  DEBRIS_RESIDENT(px, py, pz, cell);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     const int cx = cell_coordinate(px[i], lo0, inv0, n0, p0);
@@ -66,12 +67,16 @@ void CellList::build(const BoxView& box, const double* x, const double* y, const
     cell[i] = cx + n0 * (cy + n1 * cz);
   }
 
-  // Counting sort, serial: it is a small part of a rebuild and keeps the order deterministic.
+  // Counting sort, serial: it is a small part of a rebuild and keeps the order deterministic. It runs on
+  // the host in offload builds too (n ints each way per build).
+  exec::to_host(cell_of_);
   int* start = cell_start_.data();
   for (int i = 0; i < n; ++i) ++start[cell[i] + 1];
   for (int c = 0; c < ncell; ++c) start[c + 1] += start[c];
   std::copy(cell_start_.begin(), cell_start_.end() - 1, cursor_.begin());
   for (int i = 0; i < n; ++i) sorted_index_[static_cast<std::size_t>(cursor_[static_cast<std::size_t>(cell[i])]++)] = i;
+  exec::to_device(cell_start_);
+  exec::to_device(sorted_index_);
 }
 
 std::size_t CellList::bytes() const {

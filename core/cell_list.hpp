@@ -28,7 +28,8 @@ DEBRIS_END_DECLARE_TARGET
 
 class CellList {
  public:
-  /// Bins n particles into cells whose edge is >= min_cell_size on every axis.
+  /// Bins n particles into cells whose edge is >= min_cell_size on every axis. In offload builds x, y, z
+  /// must be on the device (device copies are read).
   /// Periodic axis: floor(len / min_cell_size) cells, or 1 cell when that is < 3 (the 27-cell stencil
   /// would otherwise visit a cell twice; minimum image handles the rest); an unwrapped coordinate is
   /// binned as its periodic image. Non-periodic axis: cells cover [lo, lo + len), particles outside are
@@ -44,17 +45,17 @@ class CellList {
   int particles() const { return n_; }
 
   /// Size cell_count() + 1: particles of cell c are sorted_index()[cell_start()[c] .. cell_start()[c+1]).
-  const std::vector<int>& cell_start() const { return cell_start_; }
+  const exec::DeviceVector<int>& cell_start() const { return cell_start_; }
   /// Particle indices grouped by cell, ascending within a cell (deterministic).
-  const std::vector<int>& sorted_index() const { return sorted_index_; }
+  const exec::DeviceVector<int>& sorted_index() const { return sorted_index_; }
   /// Cell of each particle.
-  const std::vector<int>& cell_of() const { return cell_of_; }
+  const exec::DeviceVector<int>& cell_of() const { return cell_of_; }
 
   /// Linear index of cell (cx, cy, cz), x fastest.
   int cell_index(int cx, int cy, int cz) const { return cx + dims_[0] * (cy + dims_[1] * cz); }
 
   /// New order that groups particles by cell, for Particles::permute: sorted_index() itself.
-  std::vector<int> sort_order() const { return sorted_index_; }
+  std::vector<int> sort_order() const { return std::vector<int>(sorted_index_.begin(), sorted_index_.end()); }
 
   /// Bytes held by the arrays.
   std::size_t bytes() const;
@@ -66,9 +67,11 @@ class CellList {
   int dims_[3] = {0, 0, 0};
   double edge_[3] = {0, 0, 0};
   int n_ = 0;
-  std::vector<int> cell_start_;
-  std::vector<int> sorted_index_;
-  std::vector<int> cell_of_;
+  // Offload builds: the three arrays are on the device; cell_of is computed there, the counting sort runs
+  // on the host (to_host(cell_of), to_device(cell_start, sorted_index)), so all three are current on both.
+  exec::DeviceVector<int> cell_start_;
+  exec::DeviceVector<int> sorted_index_;
+  exec::DeviceVector<int> cell_of_;
   std::vector<int> cursor_;  // fill position per cell, kept to avoid reallocating
 };
 

@@ -3,26 +3,68 @@
 #include "core/exec.hpp"
 #include "core/neighbor_list.hpp"
 #include "core/particles.hpp"
+#include "core/resize_for_overwrite.hpp"
 
 namespace debris {
 
 void ContactHistory::reset(const NeighborList& list) {
   const std::size_t m = static_cast<std::size_t>(list.entries());
+#if defined(DEBRIS_OFFLOAD_TARGET)
+  // Zeroed on the device (a kernel, not a transfer of m zeros).
+  resize_for_overwrite(hx, m);
+  resize_for_overwrite(hy, m);
+  resize_for_overwrite(hz, m);
+  const int entries = static_cast<int>(m);
+  double *__restrict a = hx.data(), *__restrict b = hy.data(), *__restrict c = hz.data();
+  DEBRIS_RESIDENT(a, b, c);
+  DEBRIS_KERNEL
+  for (int k = 0; k < entries; ++k) a[k] = b[k] = c[k] = 0.0;
+#else
   hx.assign(m, 0.0);
   hy.assign(m, 0.0);
   hz.assign(m, 0.0);
+#endif
+}
+
+void ContactHistory::to_host() const {
+  exec::to_host(hx);
+  exec::to_host(hy);
+  exec::to_host(hz);
+}
+
+void ContactHistory::to_device() const {
+  exec::to_device(hx);
+  exec::to_device(hy);
+  exec::to_device(hz);
 }
 
 void ContactHistory::remember(const Particles& p, const NeighborList& list) {
   const int n = list.rows();
+  // The offsets are current on the host after every build. The largest id is found where the ids are
+  // current: on the device in offload builds (a re-sort leaves the host's copies stale).
   old_offset_ = list.offset();
   old_partner_.resize(static_cast<std::size_t>(list.entries()));
-  old_row_of_id_.assign(static_cast<std::size_t>(p.max_id() + 1), -1);
+#if defined(DEBRIS_OFFLOAD_TARGET)
+  std::int64_t max_id = -1;
+  {
+    const std::int64_t* ids = p.id.data();
+    const int count = static_cast<int>(p.size());
+    DEBRIS_RESIDENT(ids);
+    DEBRIS_KERNEL_MAX(max_id)
+    for (int i = 0; i < count; ++i) max_id = ids[i] > max_id ? ids[i] : max_id;
+  }
+#else
+  const std::int64_t max_id = p.max_id();
+#endif
+  old_row_of_id_.assign(static_cast<std::size_t>(max_id + 1), -1);
+  exec::to_device(old_offset_);
+  exec::to_device(old_row_of_id_);
   const int* offset = list.offset().data();
   const int* index = list.index().data();
   const std::int64_t* id = p.id.data();
   std::int64_t* partner = old_partner_.data();
   int* row_of_id = old_row_of_id_.data();
+  DEBRIS_RESIDENT(offset, index, id, partner, row_of_id);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     row_of_id[id[i]] = i;
@@ -46,6 +88,7 @@ void ContactHistory::carry_over(const Particles& p, const NeighborList& list) {
   const int known_ids = static_cast<int>(old_row_of_id_.size());
   const double *ohx = old_hx_.data(), *ohy = old_hy_.data(), *ohz = old_hz_.data();
   double *nhx = hx.data(), *nhy = hy.data(), *nhz = hz.data();
+  DEBRIS_RESIDENT(offset, index, id, old_offset, old_partner, row_of_id, ohx, ohy, ohz, nhx, nhy, nhz);
   // In a half list a pair sits in the row of whichever end has the lower index, which a re-sort can swap:
   // then the state is found in the partner's old row and seen from the other end (opposite sign).
   DEBRIS_KERNEL

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/exec.hpp"
+
 namespace debris {
 
 class Particles;
@@ -13,7 +15,7 @@ class NeighborList;
 
 class ContactHistory {
  public:
-  std::vector<double> hx, hy, hz;  // one value per neighbour entry
+  exec::DeviceVector<double> hx, hy, hz;  // one value per neighbour entry (offload builds: on the device)
 
   /// Sizes the state for a freshly built list, all zero.
   void reset(const NeighborList& list);
@@ -24,13 +26,17 @@ class ContactHistory {
   /// After the rebuild: looks up each new entry (id_i, id_j) in the remembered rows and copies its state.
   void carry_over(const Particles& p, const NeighborList& list);
 
+  /// Transfer points (offload builds): the state, device -> host (checkpoints, analysis) or host -> device.
+  void to_host() const;
+  void to_device() const;
+
   std::size_t bytes() const { return 3 * sizeof(double) * hx.capacity(); }
 
  private:
-  std::vector<int> old_offset_;
-  std::vector<std::int64_t> old_partner_;
-  std::vector<int> old_row_of_id_;
-  std::vector<double> old_hx_, old_hy_, old_hz_;
+  exec::DeviceVector<int> old_offset_;
+  exec::DeviceVector<std::int64_t> old_partner_;
+  exec::DeviceVector<int> old_row_of_id_;
+  exec::DeviceVector<double> old_hx_, old_hy_, old_hz_;
 };
 
 }  // namespace debris

@@ -44,6 +44,10 @@ Groups::View Groups::view() {
     vy_[g] = list[g].velocity.y;
     vz_[g] = list[g].velocity.z;
   }
+  exec::to_device(mode_);
+  exec::to_device(vx_);
+  exec::to_device(vy_);
+  exec::to_device(vz_);
   return View{mode_.data(), vx_.data(), vy_.data(), vz_.data()};
 }
 
@@ -61,20 +65,21 @@ void Groups::sum_by_group(const Particles& p, const double* a, const double* b, 
                           std::vector<Vec3>& out) {
   const int n = static_cast<int>(p.size());
   const int ng = static_cast<int>(list.size());
-  const int block = kSumBlock;
   const int blocks = sum_blocks(n);
-  const std::size_t len = static_cast<std::size_t>(blocks) * static_cast<std::size_t>(ng) * 3;
+  const int k = 3 * ng;  // sums per block
+  const std::size_t len = static_cast<std::size_t>(blocks) * static_cast<std::size_t>(k);
   double* part = partials_.reserve(len);
   const int* group = p.group.data();
   // One pass for all groups: each block sums its members in index order into its own slice, whichever
-  // thread (or device team) runs it. Offload builds read p.group and the summed columns on the device:
-  // they must be resident there (Particles does not enter its columns yet; nothing in the DEM step does).
+  // thread (or device team) runs it, then the host adds the slices in block order: the same bits on any
+  // thread count or device.
+  DEBRIS_RESIDENT(part, group, a, b, c, w);
   DEBRIS_KERNEL
-  for (int k = 0; k < blocks; ++k) {
-    double* s = part + static_cast<std::size_t>(k) * static_cast<std::size_t>(ng) * 3;
-    for (int j = 0; j < 3 * ng; ++j) s[j] = 0.0;
-    const int end = n - k * block < block ? n : (k + 1) * block;
-    for (int i = k * block; i < end; ++i) {
+  for (int blk = 0; blk < blocks; ++blk) {
+    double* s = part + static_cast<std::size_t>(blk) * static_cast<std::size_t>(k);
+    for (int j = 0; j < k; ++j) s[j] = 0.0;
+    const BlockRange r = block_range(blk, n);
+    for (int i = r.begin; i < r.end; ++i) {
       const int g = group[i];
       if (g < 0) continue;
       const double wi = w ? w[i] : 1.0;  // 1.0 * x is exact
@@ -84,14 +89,12 @@ void Groups::sum_by_group(const Particles& p, const double* a, const double* b, 
     }
   }
   partials_.to_host(len);
+  sums_flat_.resize(static_cast<std::size_t>(k));
+  partials_.add_up(blocks, k, sums_flat_.data());
   out.resize(static_cast<std::size_t>(ng));
   for (int g = 0; g < ng; ++g) {
-    Vec3 t{};
-    for (int k = 0; k < blocks; ++k) {
-      const double* s = part + (static_cast<std::size_t>(k) * static_cast<std::size_t>(ng) + static_cast<std::size_t>(g)) * 3;
-      t += Vec3{s[0], s[1], s[2]};
-    }
-    out[static_cast<std::size_t>(g)] = t;
+    const double* t = sums_flat_.data() + 3 * static_cast<std::size_t>(g);
+    out[static_cast<std::size_t>(g)] = Vec3{t[0], t[1], t[2]};
   }
 }
 

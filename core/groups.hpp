@@ -20,14 +20,16 @@
 // groups translate only: their members never spin.
 //
 // The reactions (and free groups' momenta) are summed in fixed blocks of kSumBlock particles, each block in
-// index order, the blocks then added in order: the same bits on any thread count, so a force group moves
-// the same way on 1 or 16 threads and a checkpoint continues bit for bit with another --threads.
+// index order, the blocks then added in order (core/block_sums): the same bits on any thread count, so a
+// force group moves the same way on 1 or 16 threads and a checkpoint continues bit for bit with another
+// --threads.
 #include <array>
 #include <cstddef>
 #include <string>
 #include <vector>
 
 #include "core/block_sums.hpp"
+#include "core/exec.hpp"
 #include "core/vec3.hpp"
 
 namespace debris {
@@ -82,20 +84,18 @@ class Groups {
   /// Adds each group's centre-of-mass velocity times dt to its displacement (call after the drift).
   void accumulate_displacements(const Particles& p, double dt);
 
-  /// Particles per summation block (core/block_sums.hpp).
-  static constexpr int kSumBlock = debris::kSumBlock;
-
  private:
-  // Per block and group, the partial sums of one per-particle vector, [block][group][xyz].
-  BlockPartials partials_;
-
   /// Sums a[i] (b[i], c[i]) of each group's members into out[g]; fixed order, one pass for all groups.
   void sum_by_group(const Particles& p, const double* a, const double* b, const double* c, const double* w,
                     std::vector<Vec3>& out);
 
-  std::vector<int> mode_;
-  std::vector<double> vx_, vy_, vz_;
+  // The kernel view (copied to the device by view(): a few numbers per group) and the per-block partial
+  // sums, [block][group][xyz] (core/block_sums: computed on the device, copied back by sum_by_group).
+  exec::DeviceVector<int> mode_;
+  exec::DeviceVector<double> vx_, vy_, vz_;
+  BlockPartials partials_;
   std::vector<Vec3> sums_;
+  std::vector<double> sums_flat_;  // sum_by_group's block sums added up, [group][xyz]
 };
 
 }  // namespace debris

@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <type_traits>
 
 #include "core/error.hpp"
 
@@ -16,6 +17,7 @@ double NeighborList::max_radius(const Particles& p) {
   const int n = static_cast<int>(p.size());
   const double* __restrict r = p.radius.data();
   double r_max = 0.0;
+  DEBRIS_RESIDENT(r);
   DEBRIS_KERNEL_MAX(r_max)
   for (int i = 0; i < n; ++i) r_max = r[i] > r_max ? r[i] : r_max;
   return r_max;
@@ -30,6 +32,10 @@ void NeighborList::set_max_size_classes(int classes) {
 
 void NeighborList::bin_classes(const BoxView& box, const Particles& p, const double* reach) {
   const int n = static_cast<int>(p.size()), k = classes_.count;
+  // The binning reads positions and radii on the host (the radii came back in build()).
+  exec::to_host(p.x);
+  exec::to_host(p.y);
+  exec::to_host(p.z);
   // Members of each class in increasing index (a counting sort by class), so that every cell of every grid
   // lists its particles in increasing index, as the single grid does (the half list relies on it).
   int first[SizeClasses::kMax + 1] = {};
@@ -52,6 +58,10 @@ void NeighborList::bin_classes(const BoxView& box, const Particles& p, const dou
     member_z_[at] = p.z[ui];
   }
 
+  exec::to_device(class_of_);
+  exec::to_device(member_x_);
+  exec::to_device(member_y_);
+  exec::to_device(member_z_);
   // Grid (a, c): class c's members in cells at least reach(a, c) wide.
   class_cells_.resize(static_cast<std::size_t>(k * k));
   grids_ = ClassGrids{};
@@ -88,6 +98,8 @@ void NeighborList::bin_classes(const BoxView& box, const Particles& p, const dou
       const int* m = members_.data() + first[c];
       for (int v : cl.sorted_index()) grid_sorted_[static_cast<std::size_t>(sorted_base++)] = m[v];
     }
+  exec::to_device(grid_start_);
+  exec::to_device(grid_sorted_);
 }
 
 bool NeighborList::inside_periodic_box(const BoxView& box, const Particles& p) {
@@ -98,6 +110,7 @@ bool NeighborList::inside_periodic_box(const BoxView& box, const Particles& p) {
     if (!box.periodic[a]) continue;
     const double* __restrict u = c[a];
     const double lo = box.lo[a], hi = box.lo[a] + box.len[a];
+    DEBRIS_RESIDENT(u);
     DEBRIS_KERNEL_SUM(outside)
     for (int i = 0; i < n; ++i) outside += (u[i] < lo) | (u[i] > hi);
   }
@@ -139,9 +152,26 @@ int NeighborList::prefix_sum() {
 }
 
 void NeighborList::record(const BoxView& box, const Particles& p, double skin, NeighborKind kind) {
+#if defined(DEBRIS_OFFLOAD_TARGET)
+  // The positions at the build are copied on the device, where needs_rebuild reads them.
+  const int n = static_cast<int>(p.size());
+  x0_.resize(p.size());
+  y0_.resize(p.size());
+  z0_.resize(p.size());
+  const double *__restrict x = p.x.data(), *__restrict y = p.y.data(), *__restrict z = p.z.data();
+  double *__restrict x0 = x0_.data(), *__restrict y0 = y0_.data(), *__restrict z0 = z0_.data();
+  DEBRIS_RESIDENT(x, y, z, x0, y0, z0);
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    x0[i] = x[i];
+    y0[i] = y[i];
+    z0[i] = z[i];
+  }
+#else
   x0_.assign(p.x.begin(), p.x.end());
   y0_.assign(p.y.begin(), p.y.end());
   z0_.assign(p.z.begin(), p.z.end());
+#endif
   for (int a = 0; a < 3; ++a) len0_[a] = box.len[a];
   rows_ = static_cast<int>(p.size());
   skin_ = skin;
@@ -150,8 +180,24 @@ void NeighborList::record(const BoxView& box, const Particles& p, double skin, N
 }
 
 NeighborList::Saved NeighborList::save() const {
-  Saved s{kind_, skin_, offset_, index_, x0_, y0_, z0_, {len0_[0], len0_[1], len0_[2]}};
+  auto host = [](const auto& v) { return std::vector<typename std::decay_t<decltype(v)>::value_type>(v.begin(), v.end()); };
+  Saved s{kind_, skin_, host(offset_), host(index_), host(x0_), host(y0_), host(z0_), {len0_[0], len0_[1], len0_[2]}};
   return s;
+}
+
+void NeighborList::to_host() const {
+  exec::to_host(index_);
+  exec::to_host(x0_);
+  exec::to_host(y0_);
+  exec::to_host(z0_);
+}
+
+void NeighborList::to_device() const {
+  exec::to_device(offset_);
+  exec::to_device(index_);
+  exec::to_device(x0_);
+  exec::to_device(y0_);
+  exec::to_device(z0_);
 }
 
 void NeighborList::restore(Saved s) {
@@ -160,11 +206,12 @@ void NeighborList::restore(Saved s) {
     throw std::runtime_error("neighbour list restore: inconsistent arrays");
   kind_ = s.kind;
   skin_ = s.skin;
-  offset_ = std::move(s.offset);
-  index_ = std::move(s.index);
-  x0_ = std::move(s.x0);
-  y0_ = std::move(s.y0);
-  z0_ = std::move(s.z0);
+  offset_.assign(s.offset.begin(), s.offset.end());
+  index_.assign(s.index.begin(), s.index.end());
+  x0_.assign(s.x0.begin(), s.x0.end());
+  y0_.assign(s.y0.begin(), s.y0.end());
+  z0_.assign(s.z0.begin(), s.z0.end());
+  to_device();
   for (int a = 0; a < 3; ++a) len0_[a] = s.len0[a];
   rows_ = static_cast<int>(x0_.size());
   built_ = true;
@@ -186,6 +233,7 @@ bool NeighborList::needs_rebuild(const BoxView& box, const Particles& p) const {
   const double lx = box.len[0], ly = box.len[1], lz = box.len[2];
   const int px = box.periodic[0], py = box.periodic[1], pz = box.periodic[2];
   double max_d2 = 0.0;
+  DEBRIS_RESIDENT(x, y, z, x0, y0, z0);
   // nearest_image instead of minimum_image: branch-free, so this vectorises (the floor() version cost 5%
   // of a step). It is exact for drifts under 1.5 box lengths and never smaller than the true minimum
   // image beyond, so it cannot miss a rebuild.

@@ -192,8 +192,14 @@ class NeighborList {
     std::vector<double> x0, y0, z0;  // positions at the build
     double len0[3];                  // box lengths at the build
   };
-  Saved save() const;
-  void restore(Saved s);
+  Saved save() const;  // reads the host copies: call to_host() first in offload builds
+  void restore(Saved s);  // host and device copies both set
+
+  /// Transfer point (offload builds): the host copies of the rows and of the positions at the build
+  /// (index, x0, y0, z0; the offsets are current on both sides after every build) are refreshed.
+  void to_host() const;
+  /// Transfer point: the device copies of everything a kernel reads, after a host-side change.
+  void to_device() const;
 
   /// At most this many size classes (1 to SizeClasses::kMax; 1: always one grid). Takes effect at the next build.
   void set_max_size_classes(int classes);
@@ -205,8 +211,8 @@ class NeighborList {
   /// True when every coordinate on a periodic axis lies in [lo, lo + len] (as after Box::wrap).
   static bool inside_periodic_box(const BoxView& box, const Particles& p);
   int rows() const { return rows_; }
-  const std::vector<int>& offset() const { return offset_; }  // size rows() + 1
-  const std::vector<int>& index() const { return index_; }    // neighbour indices
+  const exec::DeviceVector<int>& offset() const { return offset_; }  // size rows() + 1
+  const exec::DeviceVector<int>& index() const { return index_; }    // neighbour indices
   int entries() const { return offset_.empty() ? 0 : offset_.back(); }
   NeighborKind kind() const { return kind_; }
   double skin() const { return skin_; }
@@ -235,16 +241,19 @@ class NeighborList {
   int max_classes_ = SizeClasses::kMax;
   SizeClasses classes_;
   ClassGrids grids_;
-  std::vector<int> class_of_, members_;
-  std::vector<double> member_x_, member_y_, member_z_;
+  // Offload builds: the binning runs on the host (to_host of x, y, z, radius), its arrays go to the device.
+  exec::DeviceVector<int> class_of_;
+  std::vector<int> members_;
+  exec::DeviceVector<double> member_x_, member_y_, member_z_;
   std::vector<CellList> class_cells_;
-  std::vector<int> grid_start_, grid_sorted_;
+  exec::DeviceVector<int> grid_start_, grid_sorted_;
   std::vector<long long> thread_candidates_;
   long long candidates_ = 0;
-  std::vector<int> offset_;
-  std::vector<int> index_;
+  // Offload builds: both on the device; the row counts come to the host for the prefix sum and go back.
+  exec::DeviceVector<int> offset_;
+  exec::DeviceVector<int> index_;
   std::vector<std::vector<int>> thread_rows_;  // host build: each thread's rows, kept between builds
-  std::vector<double> x0_, y0_, z0_;  // positions at the last build
+  exec::DeviceVector<double> x0_, y0_, z0_;  // positions at the last build (offload: copied on the device)
   double len0_[3] = {0, 0, 0};        // box lengths at the last build
   int rows_ = 0;
   bool built_ = false;
@@ -301,6 +310,9 @@ void NeighborList::build(const BoxView& box, const Particles& p, Cutoff cutoff, 
   check(box, p, max_cutoff, skin, p.size() > 0 ? cutoff(r_max, r_max) : 0.0);
   const int n = static_cast<int>(p.size());
   offset_.resize(static_cast<std::size_t>(n) + 1);
+  // The classes are found on the host: offload builds bring the radii back first (a re-sort permutes the
+  // device copies only and leaves the host's stale).
+  exec::to_host(p.radius);
   classes_ = SizeClasses::of(p.radius.data(), n, max_classes_);
 
   const double* __restrict x = p.x.data();
@@ -326,13 +338,17 @@ void NeighborList::build(const BoxView& box, const Particles& p, Cutoff cutoff, 
     const int* __restrict cls = class_of_.data();
     const int* __restrict start_all = grid_start_.data();
     const int* __restrict sorted_all = grid_sorted_.data();
-#if defined(DEBRIS_OFFLOAD_NVPTX)
+#if defined(DEBRIS_OFFLOAD_TARGET)
+    DEBRIS_RESIDENT(off, cls, x, y, z, r, start_all, sorted_all);
     DEBRIS_KERNEL
     for (int i = 0; i < n; ++i)
       off[i + 1] = neighbor_row_classes(i, cls[i], grids, x, y, z, r, start_all, sorted_all, b, cutoff, skin, half,
                                         wrapped, nullptr);
+    exec::to_host(offset_);
     resize_for_overwrite(index_, static_cast<std::size_t>(prefix_sum()));
+    exec::to_device(offset_);
     int* __restrict idx = index_.data();
+    DEBRIS_RESIDENT(off, idx, cls, x, y, z, r, start_all, sorted_all);
     DEBRIS_KERNEL
     for (int i = 0; i < n; ++i)
       neighbor_row_classes(i, cls[i], grids, x, y, z, r, start_all, sorted_all, b, cutoff, skin, half, wrapped,
@@ -371,16 +387,20 @@ void NeighborList::build(const BoxView& box, const Particles& p, Cutoff cutoff, 
   const int n0 = dims[0], n1 = dims[1], n2 = dims[2];
   const double reach2 = (max_cutoff + skin) * (max_cutoff + skin);
 
-#if defined(DEBRIS_OFFLOAD_NVPTX)
-  // Device: count the rows, place them, scan again to fill.
+#if defined(DEBRIS_OFFLOAD_TARGET)
+  // Device: count the rows, place them (prefix sum on the host: n ints each way), scan again to fill.
+  DEBRIS_RESIDENT(off, cell_of, x, y, z, r, cell_start, sorted);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     const Stencil st = cell_stencil(cell_of[i], n0, n1, n2, b.periodic);
     off[i + 1] = neighbor_row(i, st, x, y, z, r, cell_start, sorted, n0, n1, n2, b, cutoff, skin, reach2, half,
                                wrapped, nullptr);
   }
+  exec::to_host(offset_);
   resize_for_overwrite(index_, static_cast<std::size_t>(prefix_sum()));
+  exec::to_device(offset_);
   int* __restrict idx = index_.data();
+  DEBRIS_RESIDENT(off, idx, cell_of, x, y, z, r, cell_start, sorted);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     const Stencil st = cell_stencil(cell_of[i], n0, n1, n2, b.periodic);

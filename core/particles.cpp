@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <numbers>
 #include <string>
+#include <type_traits>
 
 #include "core/error.hpp"
 
@@ -32,6 +33,43 @@ void Particles::permute(const std::vector<int>& order) {
   });
 }
 
+#if defined(DEBRIS_OFFLOAD_TARGET)
+namespace {
+// A named function, not the visiting lambda: clang 19 crashes on a target region inside a generic lambda.
+template <class Column>
+void gather_on_device(Column& col, const int* __restrict o, int n) {
+  Column out(col.size());
+  auto* __restrict dst = out.data();
+  const auto* __restrict src = col.data();
+  DEBRIS_RESIDENT(dst, src, o);
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) dst[i] = src[o[i]];
+  col.swap(out);  // the buffers swap, and their mappings with them
+}
+}  // namespace
+#endif
+
+void Particles::permute_resident(const std::vector<int>& order) {
+#if defined(DEBRIS_OFFLOAD_TARGET)
+  // On the device: each column gathered into a scratch column, whose buffer then swaps in.
+  const int n = static_cast<int>(order.size());
+  exec::DeviceVector<int> ord(order.begin(), order.end());
+  exec::to_device(ord);
+  const int* o = ord.data();
+  for_each_column([n, o](const char*, auto& col) { gather_on_device(col, o, n); });
+#else
+  permute(order);
+#endif
+}
+
+void to_host(const Particles& p) {
+  p.for_each_column([](const char*, const auto& col) { exec::to_host(col); });
+}
+
+void to_device(const Particles& p) {
+  p.for_each_column([](const char*, const auto& col) { exec::to_device(col); });
+}
+
 std::size_t Particles::remove_if(const std::vector<char>& remove) {
   const std::size_t n = size();
   std::size_t kept = 0;
@@ -52,7 +90,7 @@ std::int64_t Particles::max_id() const {
 }
 
 void Particles::check_ids() const {
-  std::vector<std::int64_t> sorted = id;
+  std::vector<std::int64_t> sorted(id.begin(), id.end());
   std::sort(sorted.begin(), sorted.end());
   if (!sorted.empty() && sorted.front() < 0)
     throw input_error("particle id", std::to_string(sorted.front()), "ids must be >= 0");

@@ -3,10 +3,14 @@
 // in the field lists below; permute() and resize() walk those lists, so adding a field is one line.
 // A particle's index changes when we sort by cell; its permanent `id` never does, so anything that must
 // follow a particle (contact history, groups, output) goes through the id.
+// Columns are exec::DeviceVector: in offload builds each lives on the device for as long as its buffer;
+// the host copy is current only after to_host(p), and a host-side change reaches kernels after to_device(p).
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "core/exec.hpp"
 
 namespace debris {
 
@@ -28,13 +32,13 @@ namespace debris {
 
 class Particles {
  public:
-#define DEBRIS_DECLARE_COLUMN(name) std::vector<double> name;
+#define DEBRIS_DECLARE_COLUMN(name) exec::DeviceVector<double> name;
   DEBRIS_PARTICLE_DOUBLE_FIELDS(DEBRIS_DECLARE_COLUMN)
 #undef DEBRIS_DECLARE_COLUMN
-#define DEBRIS_DECLARE_COLUMN(name) std::vector<int> name;
+#define DEBRIS_DECLARE_COLUMN(name) exec::DeviceVector<int> name;
   DEBRIS_PARTICLE_INT_FIELDS(DEBRIS_DECLARE_COLUMN)
 #undef DEBRIS_DECLARE_COLUMN
-#define DEBRIS_DECLARE_COLUMN(name) std::vector<std::int64_t> name;
+#define DEBRIS_DECLARE_COLUMN(name) exec::DeviceVector<std::int64_t> name;
   DEBRIS_PARTICLE_ID_FIELDS(DEBRIS_DECLARE_COLUMN)
 #undef DEBRIS_DECLARE_COLUMN
 
@@ -50,8 +54,11 @@ class Particles {
   /// Appends one particle at rest; returns its index. mass/inertia are set later by the material.
   std::size_t add(std::int64_t id, int type, double x, double y, double z, double radius);
 
-  /// Reorders every column: new index i holds the particle that was at order[i].
+  /// Reorders every column (host copies): new index i holds the particle that was at order[i].
   void permute(const std::vector<int>& order);
+  /// The same on the device copies (offload builds: a gather kernel per column, order copied there; the
+  /// host copies are left meaningless until to_host). In host builds this is permute().
+  void permute_resident(const std::vector<int>& order);
 
   /// Deletes every particle i with remove[i] != 0, keeping the others in their order (all columns).
   /// Returns the number removed.
@@ -90,6 +97,19 @@ class Particles {
     DEBRIS_PARTICLE_ID_FIELDS(DEBRIS_VISIT)
 #undef DEBRIS_VISIT
   }
+  template <class F>
+  void for_each_column(F&& f) const {
+#define DEBRIS_VISIT(name) f(#name, name);
+    DEBRIS_PARTICLE_DOUBLE_FIELDS(DEBRIS_VISIT)
+    DEBRIS_PARTICLE_INT_FIELDS(DEBRIS_VISIT)
+    DEBRIS_PARTICLE_ID_FIELDS(DEBRIS_VISIT)
+#undef DEBRIS_VISIT
+  }
 };
+
+/// Transfer points for every column (no-ops in host builds): device -> host before the host reads the
+/// particles (output, checkpoints, analysis), host -> device after it changed them.
+void to_host(const Particles& p);
+void to_device(const Particles& p);
 
 }  // namespace debris

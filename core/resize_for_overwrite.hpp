@@ -9,10 +9,10 @@ namespace debris {
 
 /// Makes v hold n elements whose values are to be overwritten: contents are not kept, and the capacity is
 /// exactly n when it has to grow.
-template <class T>
-void resize_for_overwrite(std::vector<T>& v, std::size_t n) {
+template <class T, class A>
+void resize_for_overwrite(std::vector<T, A>& v, std::size_t n) {
   if (v.capacity() < n) {
-    std::vector<T>().swap(v);
+    std::vector<T, A>().swap(v);
     v.reserve(n);
   }
   v.resize(n);

@@ -27,6 +27,7 @@ void cohesive_contact_pass(const CohesiveCoefficients& c, const CohesiveOptions&
   const CohesiveCoefficients coef = c;
   const CohesiveOptions o = opt;
   const BoxView b = box;
+  DEBRIS_RESIDENT(offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius, mass, fx, fy, fz, tx, ty, tz, hx, hy, hz);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     const Vec3 xi{x[i], y[i], z[i]}, vi{vx[i], vy[i], vz[i]}, wi{wx[i], wy[i], wz[i]};
@@ -72,11 +73,12 @@ CohesiveDiagnostics cohesive_diagnostics(const CohesiveCoefficients& c, const Co
   const int blocks = sum_blocks(n);
   BlockPartials partials;
   double* part = partials.reserve(2 * static_cast<std::size_t>(blocks));
+  DEBRIS_RESIDENT(part, offset, index, x, y, z, radius, mass, hx, hy, hz);
   DEBRIS_KERNEL
   for (int blk = 0; blk < blocks; ++blk) {
     double e = 0.0, q = 0.0;
-    const int end = n - blk * kSumBlock < kSumBlock ? n : (blk + 1) * kSumBlock;
-    for (int i = blk * kSumBlock; i < end; ++i) {
+    const BlockRange r = block_range(blk, n);
+    for (int i = r.begin; i < r.end; ++i) {
       for (int k = offset[i]; k < offset[i + 1]; ++k) {
         const int j = index[k];
         const Vec3 dx = minimum_image(b, Vec3{x[i] - x[j], y[i] - y[j], z[i] - z[j]});
@@ -93,6 +95,7 @@ CohesiveDiagnostics cohesive_diagnostics(const CohesiveCoefficients& c, const Co
   const auto sums = partials.add_up<2>(blocks);
   const double energy = sums[0], pairs = sums[1];
   double overlap = 0.0;
+  DEBRIS_RESIDENT(offset, index, x, y, z, radius);
   DEBRIS_KERNEL_MAX(overlap)
   for (int i = 0; i < n; ++i) {
     for (int k = offset[i]; k < offset[i + 1]; ++k) {

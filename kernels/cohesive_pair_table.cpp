@@ -23,6 +23,7 @@ void CohesivePairTable::build(const CohesiveCoefficients& c, const Particles& p,
   double* df = delta_f.data();
   double* cn = c_n.data();
   const CohesiveCoefficients coef = c;
+  DEBRIS_RESIDENT(offset, index, radius, mass, df, cn);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i)
     for (int k = offset[i]; k < offset[i + 1]; ++k) {

@@ -8,6 +8,7 @@
 // Recomputed whenever the list, the masses or the material change.
 #include <vector>
 
+#include "core/exec.hpp"
 #include "kernels/cohesive_material.hpp"
 
 namespace debris {
@@ -16,8 +17,10 @@ class Particles;
 class NeighborList;
 
 struct CohesivePairTable {
-  std::vector<double> delta_f;          // eq 10, per neighbour-list entry
-  std::vector<double> c_n;              // eq 12 (normal damping coefficient), per entry
+  // Offload builds: computed on the device; the half-list pass that reads them runs on the host, so the
+  // engine copies them back (exec::to_host) after each build.
+  exec::DeviceVector<double> delta_f;   // eq 10, per neighbour-list entry
+  exec::DeviceVector<double> c_n;       // eq 12 (normal damping coefficient), per entry
   CohesiveCoefficients coefficients{};  // the material constants of eqs 7-18
   double kt_over_kn = 0;                // k_T / k_N = A_T / A_N, the same for every pair (eqs 7-8, 15-16)
   double ct_over_cn = 0;                // c_T / c_N = sqrt(k_T / k_N) (eqs 12-13)

@@ -19,6 +19,7 @@ void integrate_semi_implicit_euler(Particles& p, Groups::View groups, double dt)
   const int* __restrict group = p.group.data();
   const int* __restrict mode = groups.mode;
   const double *__restrict gvx = groups.vx, *__restrict gvy = groups.vy, *__restrict gvz = groups.vz;
+  DEBRIS_RESIDENT(x, y, z, vx, vy, vz, wx, wy, wz, fx, fy, fz, tx, ty, tz, mass, inertia, group, mode, gvx, gvy, gvz);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     const int g = group[i];
@@ -50,6 +51,7 @@ void zero_forces(Particles& p) {
   const int n = static_cast<int>(p.size());
   double *fx = p.fx.data(), *fy = p.fy.data(), *fz = p.fz.data();
   double *tx = p.tx.data(), *ty = p.ty.data(), *tz = p.tz.data();
+  DEBRIS_RESIDENT(fx, fy, fz, tx, ty, tz);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     fx[i] = fy[i] = fz[i] = 0.0;
@@ -64,6 +66,7 @@ void global_damping_pass(Particles& p, Groups::View groups, double c) {
   double *fx = p.fx.data(), *fy = p.fy.data(), *fz = p.fz.data();
   const int* group = p.group.data();
   const int* mode = groups.mode;
+  DEBRIS_RESIDENT(vx, vy, vz, fx, fy, fz, group, mode);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     const int g = group[i];
@@ -85,11 +88,12 @@ ParticleTotals particle_totals(const Particles& p) {
   const int blocks = sum_blocks(n);
   BlockPartials partials;
   double* part = partials.reserve(static_cast<std::size_t>(K) * static_cast<std::size_t>(blocks));
+  DEBRIS_RESIDENT(part, x, y, z, vx, vy, vz, wx, wy, wz, mass, inertia);
   DEBRIS_KERNEL
   for (int b = 0; b < blocks; ++b) {
     double ke = 0, px = 0, py = 0, pz = 0, lx = 0, ly = 0, lz = 0;
-    const int end = n - b * kSumBlock < kSumBlock ? n : (b + 1) * kSumBlock;
-    for (int i = b * kSumBlock; i < end; ++i) {
+    const BlockRange r = block_range(b, n);
+    for (int i = r.begin; i < r.end; ++i) {
       ke += 0.5 * mass[i] * (vx[i] * vx[i] + vy[i] * vy[i] + vz[i] * vz[i]) +
             0.5 * inertia[i] * (wx[i] * wx[i] + wy[i] * wy[i] + wz[i] * wz[i]);
       px += mass[i] * vx[i];
@@ -117,6 +121,7 @@ double synchronized_kinetic_energy(const Particles& p, double dt) {
   const double *mass = p.mass.data(), *inertia = p.inertia.data();
   const double h = 0.5 * dt;
   double ke = 0.0;
+  DEBRIS_RESIDENT(vx, vy, vz, wx, wy, wz, fx, fy, fz, tx, ty, tz, mass, inertia);
   DEBRIS_KERNEL_SUM(ke)
   for (int i = 0; i < n; ++i) {
     const Vec3 v{vx[i] + h * fx[i] / mass[i], vy[i] + h * fy[i] / mass[i], vz[i] + h * fz[i] / mass[i]};
@@ -133,6 +138,7 @@ long first_non_finite(const Particles& p) {
   const double *fx = p.fx.data(), *fy = p.fy.data(), *fz = p.fz.data();
   // Smallest bad index through a min reduction; a NaN anywhere makes the sum NaN, which isfinite catches.
   int first = n;
+  DEBRIS_RESIDENT(x, y, z, vx, vy, vz, fx, fy, fz);
   DEBRIS_KERNEL_MIN(first)
   for (int i = 0; i < n; ++i) {
     const double s = x[i] + y[i] + z[i] + vx[i] + vy[i] + vz[i] + fx[i] + fy[i] + fz[i];

@@ -90,7 +90,7 @@ namespace {
 // uses 256-bit vectors where they exist. An AVX-512 clone was no faster on the compressive test: its loops
 // take 16 entries per vector, more than half of a typical row (27 entries). Offload builds call the same code
 // inside target regions, where function clones do not exist.
-#if defined(DEBRIS_OFFLOAD_NVPTX)
+#if defined(DEBRIS_OFFLOAD_TARGET)
 #define DEBRIS_PD_ROW_CLONES
 #else
 #define DEBRIS_PD_ROW_CLONES __attribute__((target_clones("default", "arch=x86-64-v3")))
@@ -104,7 +104,7 @@ constexpr int kStage = 64;
 // Host builds hand rows to the kernels in blocks of about equal bond entries (one dispatched call per block,
 // and two threads get equal work although the wall nodes, which have no bonds, all sit at the end). Offload
 // builds use one row per iteration.
-#if defined(DEBRIS_OFFLOAD_NVPTX)
+#if defined(DEBRIS_OFFLOAD_TARGET)
 int row_blocks(int n, int) { return n; }
 #else
 constexpr int kEntriesPerBlock = 4096;
@@ -547,8 +547,8 @@ double pd_elastic_energy(const std::vector<PdLpsConstants>& lps, const PdGrains&
   DEBRIS_KERNEL
   for (int b = 0; b < blocks; ++b) {
     double energy = 0.0;
-    const int end = n - b * kSumBlock < kSumBlock ? n : (b + 1) * kSumBlock;
-    for (int i = b * kSumBlock; i < end; ++i) {
+    const BlockRange r = block_range(b, n);
+    for (int i = r.begin; i < r.end; ++i) {
       if (offset[i] == offset[i + 1]) continue;
       energy += volume[i] * node_energy_density(i, offset, partner, length0, broken, table[material[grain[i]]], x, y,
                                                 z, volume, m, theta);

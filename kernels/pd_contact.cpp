@@ -237,8 +237,8 @@ double pd_contact_elastic_energy(const PdContactTable& table, const PdNodes& nod
   DEBRIS_KERNEL
   for (int b = 0; b < blocks; ++b) {
     double energy = 0.0;
-    const int end = n - b * kSumBlock < kSumBlock ? n : (b + 1) * kSumBlock;
-    for (int i = b * kSumBlock; i < end; ++i) {
+    const BlockRange r = block_range(b, n);
+    for (int i = r.begin; i < r.end; ++i) {
       for (int k = offset[i]; k < offset[i + 1]; ++k) {
         const int j = index[k];
         const double d = norm(Vec3{x[j] - x[i], y[j] - y[i], z[j] - z[i]});

@@ -5,6 +5,7 @@
 #include <vector>
 #include <stdexcept>
 
+#include "core/block_sums.hpp"
 #include "core/contact_history.hpp"
 #include "core/exec.hpp"
 #include "core/neighbor_list.hpp"
@@ -86,51 +87,40 @@ StressTensor virial_stress(const CohesiveCoefficients& c, const CohesiveOptions&
   const int kin = kinetic ? 1 : 0;
   const int half = list.kind() == NeighborKind::half ? 1 : 0;
   const double inv = 1.0 / volume;
-  if constexpr (!exec::offload_build()) {
-    // Host: fixed blocks of particles, each summed in index order, then the block sums in block order, so
-    // the result is the same bits for any thread count (the amorphous relaxation feeds it back into the box).
-    constexpr int kBlock = 256;
-    const int blocks = (n + kBlock - 1) / kBlock;
-    std::vector<StressTensor> partial(static_cast<std::size_t>(blocks));
-    StressTensor* __restrict part = partial.data();
-    DEBRIS_KERNEL
-    for (int blk = 0; blk < blocks; ++blk) {
-      StressTensor t;
-      const int end = std::min(n, (blk + 1) * kBlock);
-      for (int i = blk * kBlock; i < end; ++i) {
-        const StressTensor w = particle_virial(i, half, sel, offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius,
-                                               mass, hx, hy, hz, coef, o, b, kin);
-        t.xx += w.xx, t.yy += w.yy, t.zz += w.zz, t.xy += w.xy, t.xz += w.xz, t.yz += w.yz;
-      }
-      part[blk] = t;
+  // Fixed blocks of particles, each summed in index order, then the block sums in block order on the host
+  // (core/block_sums), so the result is the same bits for any thread count or device (the amorphous
+  // relaxation feeds it back into the box). Blocks of 256, not kSumBlock: the stress has always been summed
+  // so, and a larger block would change its last bits and those of every relaxed sample.
+  constexpr int kVirialBlock = 256;
+  constexpr int K = 6;  // xx, yy, zz, xy, xz, yz
+  const int blocks = sum_blocks(n, kVirialBlock);
+  BlockPartials partials;
+  double* __restrict part = partials.reserve(static_cast<std::size_t>(K) * static_cast<std::size_t>(blocks));
+#if defined(DEBRIS_OFFLOAD_TARGET)
+  // The caller's mask is a host array: copied to the device for this call.
+  exec::DeviceVector<int> select_copy;
+  if (sel) {
+    select_copy.assign(sel, sel + n);
+    exec::to_device(select_copy);
+    sel = select_copy.data();
+  }
+#endif
+  DEBRIS_RESIDENT(part, sel, offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius, mass, hx, hy, hz);
+  DEBRIS_KERNEL
+  for (int blk = 0; blk < blocks; ++blk) {
+    StressTensor t;
+    const BlockRange r = block_range(blk, n, kVirialBlock);
+    for (int i = r.begin; i < r.end; ++i) {
+      const StressTensor w = particle_virial(i, half, sel, offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius,
+                                             mass, hx, hy, hz, coef, o, b, kin);
+      t.xx += w.xx, t.yy += w.yy, t.zz += w.zz, t.xy += w.xy, t.xz += w.xz, t.yz += w.yz;
     }
-    StressTensor s;
-    for (const StressTensor& t : partial)
-      s.xx += t.xx, s.yy += t.yy, s.zz += t.zz, s.xy += t.xy, s.xz += t.xz, s.yz += t.yz;
-    return StressTensor{s.xx * inv, s.yy * inv, s.zz * inv, s.xy * inv, s.xz * inv, s.yz * inv};
+    double* s = part + static_cast<std::size_t>(K) * static_cast<std::size_t>(blk);
+    s[0] = t.xx, s[1] = t.yy, s[2] = t.zz, s[3] = t.xy, s[4] = t.xz, s[5] = t.yz;
   }
-  // Offload: six sums in two three-way reductions (exec offers up to three); each pass recomputes the pair
-  // forces, which is cheaper than a per-particle buffer that would have to live on the device too. The
-  // order of a device reduction is not fixed: round-off may differ from run to run.
-  double sxx = 0, syy = 0, szz = 0;
-  DEBRIS_KERNEL_SUM3(sxx, syy, szz)
-  for (int i = 0; i < n; ++i) {
-    const StressTensor w = particle_virial(i, half, sel, offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius, mass, hx, hy,
-                                           hz, coef, o, b, kin);
-    sxx += w.xx;
-    syy += w.yy;
-    szz += w.zz;
-  }
-  double sxy = 0, sxz = 0, syz = 0;
-  DEBRIS_KERNEL_SUM3(sxy, sxz, syz)
-  for (int i = 0; i < n; ++i) {
-    const StressTensor w = particle_virial(i, half, sel, offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius, mass, hx, hy,
-                                           hz, coef, o, b, kin);
-    sxy += w.xy;
-    sxz += w.xz;
-    syz += w.yz;
-  }
-  return StressTensor{sxx * inv, syy * inv, szz * inv, sxy * inv, sxz * inv, syz * inv};
+  partials.to_host(static_cast<std::size_t>(K) * static_cast<std::size_t>(blocks));
+  const auto s = partials.add_up<K>(blocks);
+  return StressTensor{s[0] * inv, s[1] * inv, s[2] * inv, s[3] * inv, s[4] * inv, s[5] * inv};
 }
 
 }  // namespace debris

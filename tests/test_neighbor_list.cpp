@@ -345,7 +345,7 @@ TEST(NeighborList, RowsFollowStencilThenCellOrder) {
   a.build(s.box.view(), s.p, PolyCutoff{}, kMaxCutoff, kSkin, NeighborKind::full);
   b.build(s.box.view(), s.p, PolyCutoff{}, kMaxCutoff, kSkin, NeighborKind::full);
   EXPECT_EQ(a.index(), b.index());
-  const std::vector<int>& cell = a.cells().cell_of();
+  const auto& cell = a.cells().cell_of();
   for (int i = 0; i < a.rows(); ++i)
     for (int k = a.offset()[i] + 1; k < a.offset()[i + 1]; ++k) {
       const int j0 = a.index()[k - 1], j1 = a.index()[k];

@@ -129,7 +129,7 @@ TEST(VirialStress, ObliquePairIncludesTangentialSpringAndDamping) {
   s.history.hx = {h.x, -h.x};  // row of i holds h, row of j the same spring seen from j
   s.history.hy = {h.y, -h.y};
   s.history.hz = {h.z, -h.z};
-  const std::vector<double> hx0 = s.history.hx;
+  const auto hx0 = s.history.hx;
 
   const double volume = 3e5;
   const StressTensor st = virial_stress(c, CohesiveOptions{}, s.box.view(), s.p, s.list, s.history, nullptr, volume);

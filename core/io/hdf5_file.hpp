@@ -119,15 +119,15 @@ class Location {
   /// A new dataset of `shape` (row-major `values`, whose size must match); throws if `name` exists.
   template <Element T>
   void write(const std::string& name, std::span<const T> values, const Shape& shape);
-  /// 1-D.
-  template <Element T>
-  void write(const std::string& name, const std::vector<T>& values) {
-    write(name, std::span<const T>(values), Shape{values.size()});
+  /// 1-D (any allocator: device-resident columns write their host copy).
+  template <Element T, class A>
+  void write(const std::string& name, const std::vector<T, A>& values) {
+    write(name, std::span<const T>(values.data(), values.size()), Shape{values.size()});
   }
   /// 2-D, rows x cols, row-major.
-  template <Element T>
-  void write(const std::string& name, const std::vector<T>& values, std::size_t rows, std::size_t cols) {
-    write(name, std::span<const T>(values), Shape{rows, cols});
+  template <Element T, class A>
+  void write(const std::string& name, const std::vector<T, A>& values, std::size_t rows, std::size_t cols) {
+    write(name, std::span<const T>(values.data(), values.size()), Shape{rows, cols});
   }
   /// A scalar (rank-0) dataset.
   template <Element T>

@@ -50,12 +50,14 @@ std::string stress_text(const StressTensor& s, double E) {
 
 StressTensor stress_at_rest(DemSimulation& sim) {
   Particles& p = sim.particles();
-  std::vector<double> v[3] = {p.vx, p.vy, p.vz};
+  const exec::DeviceVector<double> v[3] = {p.vx, p.vy, p.vz};
   std::fill(p.vx.begin(), p.vx.end(), 0.0);
   std::fill(p.vy.begin(), p.vy.end(), 0.0);
   std::fill(p.vz.begin(), p.vz.end(), 0.0);
   const StressTensor s = sim.virial_stress(nullptr, sim.box().volume(), false);
-  // Copied back into the same arrays (not swapped), so the columns keep their storage.
+  // Copied back into the same arrays (not swapped), so the columns keep their storage. particles() again:
+  // virial_stress sent the zeroed velocities to the device, and this is a new host-side edit.
+  sim.particles();
   std::copy(v[0].begin(), v[0].end(), p.vx.begin());
   std::copy(v[1].begin(), v[1].end(), p.vy.begin());
   std::copy(v[2].begin(), v[2].end(), p.vz.begin());

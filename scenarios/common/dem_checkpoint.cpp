@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
+#include <utility>
 
 #include "core/error.hpp"
 #include "core/io/hdf5_file.hpp"
@@ -66,6 +67,9 @@ bool all_finite(const std::vector<double>& v) {
 }  // namespace
 
 void DemSimulation::write_checkpoint(const std::string& path, const std::string& input_echo) const {
+  // The device's state, copied back (offload builds).
+  particles_to_host();
+  pairs_to_host();
   write_checkpoint_file(path, [&](const std::string& tmp) {
     h5::File f(tmp, h5::File::Mode::create);
     f.set_attribute<std::int64_t>("format_version", kFormatVersion);
@@ -245,10 +249,13 @@ DemSimulation DemSimulation::restore(const h5::File& f, std::string* input_echo)
   sim.p_.for_each_column([&](const char* name, auto& col) {
     using T = typename std::decay_t<decltype(col)>::value_type;
     if (std::string(name) == "label" && !parts.has(name)) return;  // written before labels existed: all 0
-    if constexpr (std::is_same_v<T, int>)
-      col = parts.read<std::int32_t>(name).values;
-    else
-      col = parts.read<T>(name).values;
+    if constexpr (std::is_same_v<T, int>) {
+      const auto v = parts.read<std::int32_t>(name).values;
+      col.assign(v.begin(), v.end());
+    } else {
+      const auto v = parts.read<T>(name).values;
+      col.assign(v.begin(), v.end());
+    }
   });
   const std::size_t n = sim.p_.id.size();
   if (sim.p_.label.empty()) sim.p_.label.assign(n, 0);
@@ -342,17 +349,23 @@ DemSimulation DemSimulation::restore(const h5::File& f, std::string* input_echo)
   sim.list_.restore(std::move(s));
 
   const h5::Group hist = f.open_group("history");
-  sim.history_.hx = read_sized<double>(hist, "hx", entries);
-  sim.history_.hy = read_sized<double>(hist, "hy", entries);
-  sim.history_.hz = read_sized<double>(hist, "hz", entries);
+  // Assigned element-wise: the history columns are device-resident vectors in offload builds.
+  for (auto [name, column] : {std::pair{"hx", &sim.history_.hx}, std::pair{"hy", &sim.history_.hy},
+                              std::pair{"hz", &sim.history_.hz}}) {
+    const auto v = read_sized<double>(hist, name, entries);
+    column->assign(v.begin(), v.end());
+  }
 
   // Derived data, recomputed exactly as the original run computed it.
   sim.coef_ = CohesiveCoefficients::from(sim.settings_.material);
   sim.limits_ = stability_limits(sim.coef_, sim.p_);
-  if (sim.pass_ == PairPass::half) {
-    sim.table_.build(sim.coef_, sim.p_, sim.list_);
-    sim.scratch_.index(sim.list_);
+  // Everything read goes to the device (the list did in restore()).
+  if constexpr (exec::offload_build()) {
+    to_device(sim.p_);
+    sim.history_.to_device();
   }
+  sim.host_edited_ = false;
+  if (sim.pass_ == PairPass::half) sim.index_half_pass();
   return sim;
 }
 

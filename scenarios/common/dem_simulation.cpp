@@ -111,34 +111,56 @@ void DemSimulation::reorder(const std::vector<int>& order) {
 
 void DemSimulation::rebuild(const std::vector<int>* order) {
   const auto t0 = Clock::now();
+  particles_to_device();
+  // Offload builds: wrap, re-sort (a gather per column), neighbour search and history carry-over run on the
+  // device; the cell counting sorts and the row prefix sum run on the host (n ints each way).
   if (list_.rows() > 0) history_.remember(p_, list_);
-  box_.wrap(p_);
+  box_.wrap_resident(p_);
   if (order) {
-    p_.permute(*order);
+    p_.permute_resident(*order);
   } else if (settings_.sort_by_cell) {
     sorter_.build(box_.view(), p_.x.data(), p_.y.data(), p_.z.data(), static_cast<int>(p_.size()),
                   max_cutoff_ + skin_);
-    p_.permute(sorter_.sort_order());
+    p_.permute_resident(sorter_.sort_order());
   }
   list_.build(box_.view(), p_, CohesiveCutoff{coef_}, max_cutoff_, skin_,
                pass_ == PairPass::half ? NeighborKind::half : NeighborKind::full);
   history_.carry_over(p_, list_);
-  if (pass_ == PairPass::half) {
-    table_.build(coef_, p_, list_);
-    scratch_.index(list_);
-  }
+  device_changed(true);
+  if (pass_ == PairPass::half) index_half_pass();
   ++times_.rebuilds;
   times_.neighbours += seconds_since(t0);
 }
 
+void DemSimulation::index_half_pass() {
+  // The half-list pass runs on host threads only: in offload builds its tables come back to the host.
+  table_.build(coef_, p_, list_);
+  exec::to_host(table_.delta_f);
+  exec::to_host(table_.c_n);
+  pairs_to_host();
+  scratch_.index(list_);
+}
+
 void DemSimulation::compute_forces(int update_history) {
   auto t0 = Clock::now();
+  particles_to_device();
   zero_forces(p_);
-  if (pass_ == PairPass::half)
+  if (pass_ == PairPass::half) {
+    // Host threads. In offload builds (where the half pass is chosen only on request, for tests) the state
+    // makes a round trip around it.
+    device_changed(false);
+    particles_to_host();
+    pairs_to_host();
     cohesive_contact_pass_half(table_, settings_.options, box_.view(), p_, list_, history_, dt_, update_history,
                                scratch_);
-  else
+    if constexpr (exec::offload_build()) {
+      to_device(p_);
+      history_.to_device();
+    }
+  } else {
     cohesive_contact_pass(coef_, settings_.options, box_.view(), p_, list_, history_, dt_, update_history);
+  }
+  device_changed(update_history != 0);
   times_.contact += seconds_since(t0);
   t0 = Clock::now();
   groups_.measure_reactions(p_);
@@ -147,10 +169,8 @@ void DemSimulation::compute_forces(int update_history) {
 }
 
 void DemSimulation::recompute_forces() {
-  if (pass_ == PairPass::half) {
-    table_.build(coef_, p_, list_);
-    scratch_.index(list_);
-  }
+  particles_to_device();
+  if (pass_ == PairPass::half) index_half_pass();
   compute_forces(0);
 }
 
@@ -163,8 +183,10 @@ double DemSimulation::bytes_per_particle() const {
 void DemSimulation::step() {
   const exec::TunedStep tuned;  // times the step for the thread tuner, when the count is tuned
   auto t0 = Clock::now();
+  particles_to_device();
   groups_.kick_rigid(dt_);
   integrate_semi_implicit_euler(p_, groups_.view(), dt_);
+  device_changed(false);
   groups_.accumulate_displacements(p_, dt_);
   ++step_;
   time_ += dt_;
@@ -182,10 +204,12 @@ void DemSimulation::run(long steps) {
 }
 
 CohesiveDiagnostics DemSimulation::diagnostics() const {
+  particles_to_device();
   return cohesive_diagnostics(coef_, settings_.options, box_.view(), p_, list_, history_);
 }
 
 StressTensor DemSimulation::virial_stress(const int* select, double volume, bool kinetic) const {
+  particles_to_device();
   return debris::virial_stress(coef_, settings_.options, box_.view(), p_, list_, history_, select, volume, kinetic);
 }
 
@@ -194,17 +218,22 @@ std::string DemSimulation::health_check(double overlap_limit) const {
 }
 
 std::string DemSimulation::health_check(const CohesiveDiagnostics& diag, double overlap_limit) const {
+  particles_to_device();
   const long bad = first_non_finite(p_);
   if (bad >= 0) {
+    particles_to_host();
     const std::size_t b = static_cast<std::size_t>(bad);
     std::ostringstream os;
     os << "non-finite state at step " << step_ << " on particle id " << p_.id[b] << " (x = " << p_.x[b]
        << ", v = " << p_.vx[b] << ", f = " << p_.fx[b] << "); is the time step stable?";
     return os.str();
   }
+  particles_to_host();  // the radii (a re-sort leaves the host's copies stale)
   const double r_min = *std::min_element(p_.radius.begin(), p_.radius.end());
   if (diag.max_overlap <= overlap_limit * r_min) return {};
-  // Rare: find the pair by a plain scan.
+  // Rare: find the pair by a plain scan, on the host.
+  particles_to_host();
+  pairs_to_host();
   const BoxView b = box_.view();
   for (int i = 0; i < list_.rows(); ++i) {
     for (int k = list_.offset()[i]; k < list_.offset()[i + 1]; ++k) {
@@ -225,6 +254,7 @@ std::string DemSimulation::health_check(const CohesiveDiagnostics& diag, double 
 
 std::string DemSimulation::summary() const {
   // limits_.particle indexes the storage order at set-up; particles have been sorted by cell since.
+  particles_to_host();
   const std::size_t i = static_cast<std::size_t>(stability_limits(coef_, p_).particle);
   const CohesivePairParams pp = cohesive_pair_params(coef_, p_.radius[i], p_.radius[i], p_.mass[i], p_.mass[i]);
   std::ostringstream os;

@@ -6,11 +6,19 @@
 //
 // Forces at step n use x_n and v_n, so the semi-implicit Euler of eq 1 is v_{n+1} = v_n + F_n/m dt,
 // x_{n+1} = x_n + v_{n+1} dt.
+//
+// Device residency (offload builds; none of it exists in host builds): particles, neighbour list, contact
+// history, group views and pair tables live on the device from setup() to destruction. The host copies are
+// refreshed only where the host reads them: the accessors particles(), neighbors() and history() bring
+// back what a step changed (to_host), once per change; the non-const particles() also marks the host copy
+// as edited, so the next step, rebuild or force evaluation sends it to the device first (to_device).
+// Checkpoints, health-check messages and summary() go through the same two points.
 #include <chrono>
 #include <string>
 
 #include "core/box.hpp"
 #include "core/contact_history.hpp"
+#include "core/exec.hpp"
 #include "core/cell_list.hpp"
 #include "core/groups.hpp"
 #include "core/neighbor_list.hpp"
@@ -66,14 +74,30 @@ class DemSimulation {
   // State.
   const Box& box() const { return box_; }
   Box& box() { return box_; }
-  const Particles& particles() const { return p_; }
+  /// The host copy, current (offload builds: copied back from the device if a step changed it).
+  const Particles& particles() const {
+    particles_to_host();
+    return p_;
+  }
   /// Positions and velocities may be changed between steps; a change of radius or mass reaches the contact
   /// pass at the next neighbour rebuild or recompute_forces() (the pass keeps per-pair constants).
-  Particles& particles() { return p_; }
+  /// Offload builds: the host copy is brought up to date, and sent back to the device before the next
+  /// kernel (any call counts as an edit).
+  Particles& particles() {
+    particles_to_host();
+    if constexpr (exec::offload_build()) host_edited_ = true;
+    return p_;
+  }
   Groups& groups() { return groups_; }
   const Groups& groups() const { return groups_; }
-  const NeighborList& neighbors() const { return list_; }
-  const ContactHistory& history() const { return history_; }
+  const NeighborList& neighbors() const {
+    pairs_to_host();
+    return list_;
+  }
+  const ContactHistory& history() const {
+    pairs_to_host();
+    return history_;
+  }
   const DemSettings& settings() const { return settings_; }
   const CohesiveCoefficients& coefficients() const { return coef_; }
   long step_count() const { return step_; }
@@ -135,6 +159,37 @@ class DemSimulation {
   static DemSimulation restore(const h5::File& f, std::string* input_echo);
   void compute_forces(int update_history);
   void rebuild(const std::vector<int>* order);
+  void index_half_pass();  // pair table and pass scratch of the half-list pass, after a build
+  // Residency (offload builds; empty in host builds). The host copies of the particles, and of the list and
+  // history, are current when the flags say so; host_edited_ says the device copy of the particles is not.
+  void particles_to_host() const {
+    if constexpr (exec::offload_build()) {
+      if (!particles_on_host_) to_host(p_);
+      particles_on_host_ = true;
+    }
+  }
+  void pairs_to_host() const {
+    if constexpr (exec::offload_build()) {
+      if (!pairs_on_host_) {
+        list_.to_host();
+        history_.to_host();
+      }
+      pairs_on_host_ = true;
+    }
+  }
+  void particles_to_device() const {
+    if constexpr (exec::offload_build()) {
+      if (host_edited_) to_device(p_);
+      host_edited_ = false;
+    }
+  }
+  // After kernels changed the device copies.
+  void device_changed(bool pairs) const {
+    if constexpr (exec::offload_build()) {
+      particles_on_host_ = false;
+      if (pairs) pairs_on_host_ = false;
+    }
+  }
 
   Box box_;
   Particles p_;
@@ -152,6 +207,7 @@ class DemSimulation {
   long step_ = 0;
   double time_ = 0;
   PassTimes times_;
+  mutable bool particles_on_host_ = true, pairs_on_host_ = true, host_edited_ = true;
 };
 
 }  // namespace debris

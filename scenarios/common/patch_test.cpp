@@ -260,7 +260,7 @@ void check_health(const DemSimulation& sim, const char* test, double overlap_lim
 }
 
 double initial_overlap_over_r_min(const DemSimulation& sim) {
-  const std::vector<double>& r = sim.particles().radius;
+  const auto& r = sim.particles().radius;
   return sim.diagnostics().max_overlap / *std::min_element(r.begin(), r.end());
 }
 

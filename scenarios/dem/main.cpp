@@ -66,7 +66,7 @@ class DemRunModel final : public RunModel {
     // `auto`: the deepest overlap the run starts with, plus one smallest radius (the patch tests' allowance
     // for a sample that fractures and snaps back).
     if (cfg_.overlap_limit_auto) {
-      const std::vector<double>& r = sim_.particles().radius;
+      const auto& r = sim_.particles().radius;
       overlap_limit_ = sim_.diagnostics().max_overlap / *std::min_element(r.begin(), r.end()) + 1.0;
     } else {
       overlap_limit_ = cfg_.overlap_limit;
