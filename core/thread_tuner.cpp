@@ -201,8 +201,13 @@ std::string ThreadTuner::summary() const {
   bool any = false;
   for (std::size_t k = 0; k < candidates_.size(); ++k) {
     if (steps_on_[k] == 0) continue;
-    os << (any ? "," : "") << " " << candidates_[k] << " for " << std::fixed << std::setprecision(0)
-       << 100.0 * static_cast<double>(steps_on_[k]) / static_cast<double>(std::max(1L, total)) << "% of steps";
+    const double share = 100.0 * static_cast<double>(steps_on_[k]) / static_cast<double>(std::max(1L, total));
+    os << (any ? "," : "") << " " << candidates_[k] << " for ";
+    if (share < 0.5)
+      os << "<1";  // a probe's few steps
+    else
+      os << std::fixed << std::setprecision(0) << share;
+    os << "% of steps";
     any = true;
   }
   os << " (" << probes_ << (probes_ == 1 ? " probe, " : " probes, ") << changes_
