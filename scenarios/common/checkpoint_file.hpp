@@ -1,11 +1,11 @@
 #pragma once
 // What the two executables' checkpoints share around their contents: writing through `path`.tmp, sealed
 // with checksums (core/io/hdf5_seal.hpp) and synced before it is renamed over the previous checkpoint;
-// reading only after the seal is checked; and one error for whatever is wrong with a checkpoint.
+// reading only sealed files, after the seal is checked; and one error for whatever is wrong with a checkpoint.
 //
 // Every problem with a checkpoint given to --restart is bad input (InputError, exit 2) naming the file and
 // what is wrong, never a crash or a run from a state that is not the one written: a changed byte fails
-// the seal (naming the dataset it falls in), and what a sealed or older unsealed file holds is checked
+// the seal (naming the dataset it falls in), a file without a seal is refused, and what a sealed file holds is checked
 // (sizes agree, indices in range, ids unique, enumerations known) before anything uses it. A checkpoint
 // that cannot be written is an OutputError (exit 3); the previous one is left as it was.
 #include <filesystem>
@@ -27,8 +27,13 @@ inline void check_checkpoint(bool ok, const std::string& path, const std::string
   if (!ok) throw unsound_checkpoint(path, what);
 }
 
-/// Checks that `path` exists and its seal (if it has one) holds, then returns read(sealed), turning what
-/// escapes it into an InputError naming the file. `kind` ("debris_dem") is for the messages.
+/// Checks that `path` exists, is sealed and its seal holds, then returns read(), turning what escapes it into
+/// an InputError naming the file. `kind` ("debris_dem") is for the messages.
+///
+/// A file without a seal is refused before HDF5 parses a byte of it: libhdf5 does not survive every damaged
+/// file (the readers' fuzzer found a heap overflow in libhdf5 1.10.8 on a mutated unsealed checkpoint), and
+/// without checksums nothing can tell a damaged file from a sound one. Checkpoints from before seals (DEM
+/// format 2, PeriDEM format 1, written before 2026-12-01) are refused with them.
 template <class Read>
 auto read_checkpoint_file(const std::string& path, const std::string& kind, Read&& read) {
   if (!std::filesystem::exists(path)) throw input_error("restart", path, "no such checkpoint file");
@@ -39,8 +44,15 @@ auto read_checkpoint_file(const std::string& path, const std::string& kind, Read
     throw InputError("input error: 'restart': " + std::string(e.what()) +
                      "; restart from an earlier checkpoint, or run again from the input");
   }
+  if (!sealed)
+    throw input_error("restart", path,
+                      "is not a " + kind +
+                          " checkpoint debris can trust: its checksums are missing. It is another kind of file, a "
+                          "checkpoint whose end was cut off, or one written by a debris from before checkpoints "
+                          "were sealed (2026-12-01); only sealed files are read, so that no damaged file reaches "
+                          "the HDF5 library");
   try {
-    return read(sealed);
+    return read();
   } catch (const InputError&) {
     throw;
   } catch (const std::bad_alloc&) {

@@ -24,9 +24,9 @@ namespace debris {
 namespace {
 
 // 2: groups/prescribed (per-axis velocity of force groups). 3: sealed with checksums, a "format" attribute.
-// Format 2 files (unsealed) are still read, with the same checks of their contents.
+// Unsealed files (format 2 and older) are refused (checkpoint_file.hpp).
 constexpr std::int64_t kFormatVersion = 3;
-constexpr std::int64_t kOldestFormat = 2;
+constexpr std::int64_t kOldestFormat = 3;  // the first sealed format
 constexpr const char* kFormatName = "debris DEM checkpoint";
 
 template <class T>
@@ -168,7 +168,7 @@ void DemSimulation::write_checkpoint(const std::string& path, const std::string&
 }
 
 DemSimulation DemSimulation::from_checkpoint(const std::string& path, std::string* input_echo) {
-  return read_checkpoint_file(path, "debris_dem", [&](bool sealed) {
+  return read_checkpoint_file(path, "debris_dem", [&] {
     h5::File f(path, h5::File::Mode::read_only);
     check_checkpoint(f.has_attribute("format_version"), path, "it is not a debris_dem checkpoint (no format_version)");
     const auto version = f.attribute<std::int64_t>("format_version");
@@ -183,7 +183,6 @@ DemSimulation DemSimulation::from_checkpoint(const std::string& path, std::strin
                             "; this debris_dem reads formats " + std::to_string(kOldestFormat) + " to " +
                             std::to_string(kFormatVersion));
     check_checkpoint(f.has("particles"), path, "it is not a debris_dem checkpoint (no particles)");
-    check_checkpoint(sealed || version < 3, path, "its checksums are missing (was the end of the file cut off?)");
     return restore(f, input_echo);
   });
 }

@@ -30,9 +30,9 @@ namespace debris {
 
 namespace {
 
-// 2: sealed with checksums. Format 1 files (unsealed) are still read, with the same checks of their contents.
+// 2: sealed with checksums. Unsealed files (format 1) are refused (checkpoint_file.hpp).
 constexpr std::int64_t kFormatVersion = 2;
-constexpr std::int64_t kOldestFormat = 1;
+constexpr std::int64_t kOldestFormat = 2;  // the first sealed format
 
 constexpr int kMaterialFields = 6;  // density, K, G, G_c, horizon, dimension
 constexpr int kContactFields = 6;   // radius factor, restitution, C, mu, stiffness factor, damping onset
@@ -130,7 +130,7 @@ void PeridemSimulation::write_checkpoint(const std::string& path, const std::str
 }
 
 PeridemSimulation PeridemSimulation::from_checkpoint(const std::string& path, std::string* input_echo) {
-  return read_checkpoint_file(path, "debris_peridem", [&](bool sealed) {
+  return read_checkpoint_file(path, "debris_peridem", [&] {
     h5::File f(path, h5::File::Mode::read_only);
     if (!f.has_attribute("format_version") || !f.has("bonds") || !f.has_attribute("format") ||
         f.string_attribute("format").rfind("debris PeriDEM checkpoint", 0) != 0)
@@ -140,7 +140,6 @@ PeridemSimulation PeridemSimulation::from_checkpoint(const std::string& path, st
       throw input_error("restart", path,
                         "has checkpoint format " + std::to_string(version) + "; this debris_peridem reads formats " +
                             std::to_string(kOldestFormat) + " to " + std::to_string(kFormatVersion));
-    if (!sealed && version >= 2) throw corrupt(path, "its checksums are missing (was the end of the file cut off?)");
     return restore(f, input_echo);
   });
 }
