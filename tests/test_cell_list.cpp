@@ -1,5 +1,7 @@
 // CellList: grid dimensions, every particle in exactly one cell, cell coordinates recomputed independently,
 // clamping outside a non-periodic box, periodic images of unwrapped coordinates, deterministic order.
+// Offload builds: build() reads the positions on the device, so the test's points are device-resident
+// columns sent there after every host-side change; the three arrays it returns are current on both sides.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +11,7 @@
 
 #include "core/cell_list.hpp"
 #include "core/error.hpp"
+#include "core/exec.hpp"
 
 namespace debris {
 namespace {
@@ -26,14 +29,26 @@ BoxView make_view(double lx, double ly, double lz, bool px, bool py, bool pz, do
 }
 
 struct Points {
-  std::vector<double> x, y, z;
+  exec::DeviceVector<double> x, y, z;
   int n() const { return static_cast<int>(x.size()); }
   void add(double px, double py, double pz) {
     x.push_back(px);
     y.push_back(py);
     z.push_back(pz);
   }
+  /// Host -> device after the host changed the points (no-op in host builds).
+  void to_device() const {
+    exec::to_device(x);
+    exec::to_device(y);
+    exec::to_device(z);
+  }
 };
+
+/// build() on the points as they are on the host now.
+void build(CellList& cl, const BoxView& b, const Points& p, double min_cell_size) {
+  p.to_device();
+  cl.build(b, p.x.data(), p.y.data(), p.z.data(), p.n(), min_cell_size);
+}
 
 // Independent reference for the cell coordinate along one axis.
 int expected_coord(double x, double lo, double len, int nc, bool periodic) {
@@ -70,7 +85,7 @@ void expect_consistent(const CellList& cl, const BoxView& b, const Points& p) {
   for (int i = 0; i < p.n(); ++i) EXPECT_EQ(seen[i], 1) << "particle " << i;
 
   // Cell coordinates agree with an independent computation.
-  const std::vector<double>* pos[3] = {&p.x, &p.y, &p.z};
+  const exec::DeviceVector<double>* pos[3] = {&p.x, &p.y, &p.z};
   for (int i = 0; i < p.n(); ++i) {
     int c[3];
     for (int a = 0; a < 3; ++a) c[a] = expected_coord((*pos[a])[i], b.lo[a], b.len[a], dims[a], b.periodic[a]);
@@ -80,16 +95,16 @@ void expect_consistent(const CellList& cl, const BoxView& b, const Points& p) {
 
 TEST(CellList, DimensionsFollowTheAxisRules) {
   CellList cl;
-  const double no_points = 0;
+  const double* no_points = nullptr;  // no particles: nothing is read
   // Periodic: floor(len / size), or 1 when that is below 3.
-  cl.build(make_view(10.0, 5.5, 30.0, true, true, true), &no_points, &no_points, &no_points, 0, 2.5);
+  cl.build(make_view(10.0, 5.5, 30.0, true, true, true), no_points, no_points, no_points, 0, 2.5);
   EXPECT_EQ(cl.dims(), (std::array<int, 3>{4, 1, 12}));
   EXPECT_DOUBLE_EQ(cl.cell_edge()[0], 2.5);
   EXPECT_DOUBLE_EQ(cl.cell_edge()[1], 5.5);
-  cl.build(make_view(7.6, 7.4, 2.0, true, true, true), &no_points, &no_points, &no_points, 0, 2.5);
+  cl.build(make_view(7.6, 7.4, 2.0, true, true, true), no_points, no_points, no_points, 0, 2.5);
   EXPECT_EQ(cl.dims(), (std::array<int, 3>{3, 1, 1}));
   // Non-periodic: floor(len / size), at least 1; 2 cells are fine.
-  cl.build(make_view(10.0, 5.5, 2.0, false, false, false), &no_points, &no_points, &no_points, 0, 2.5);
+  cl.build(make_view(10.0, 5.5, 2.0, false, false, false), no_points, no_points, no_points, 0, 2.5);
   EXPECT_EQ(cl.dims(), (std::array<int, 3>{4, 2, 1}));
   EXPECT_EQ(cl.cell_count(), 8);
   EXPECT_EQ(cl.cell_index(1, 1, 0), 5);
@@ -116,7 +131,7 @@ TEST(CellList, RandomParticlesLandInTheirCellsOnEveryBoxKind) {
       p.add(r[0], r[1], r[2]);
     }
     CellList cl;
-    cl.build(b, p.x.data(), p.y.data(), p.z.data(), p.n(), 2.1);
+    build(cl, b, p, 2.1);
     SCOPED_TRACE(std::to_string(b.periodic[0]) + std::to_string(b.periodic[1]) + std::to_string(b.periodic[2]));
     expect_consistent(cl, b, p);
     EXPECT_EQ(cl.sort_order(), cl.sorted_index());
@@ -131,7 +146,7 @@ TEST(CellList, OutsideANonPeriodicBoxIsClampedIntoTheEdgeCells) {
   p.add(10.0, 10.0, 10.0);  // exactly on hi: last cell on every axis
   p.add(-0.01, 10.5, 0.0);
   CellList cl;
-  cl.build(b, p.x.data(), p.y.data(), p.z.data(), p.n(), 2.0);
+  build(cl, b, p, 2.0);
   ASSERT_EQ(cl.dims(), (std::array<int, 3>{5, 5, 5}));
   EXPECT_EQ(cl.cell_of()[0], cl.cell_index(0, 2, 2));
   EXPECT_EQ(cl.cell_of()[1], cl.cell_index(4, 2, 2));
@@ -147,7 +162,7 @@ TEST(CellList, UnwrappedCoordinateOnAPeriodicAxisUsesItsImage) {
   p.add(-0.5, 5.0, 5.0);   // image 9.5: last cell
   p.add(25.1, -13.0, 5.0);  // images 5.1 and 7.0
   CellList cl;
-  cl.build(b, p.x.data(), p.y.data(), p.z.data(), p.n(), 2.0);
+  build(cl, b, p, 2.0);
   EXPECT_EQ(cl.cell_of()[0], cl.cell_index(0, 2, 2));
   EXPECT_EQ(cl.cell_of()[1], cl.cell_index(4, 2, 2));
   EXPECT_EQ(cl.cell_of()[2], cl.cell_index(2, 3, 2));
@@ -160,12 +175,12 @@ TEST(CellList, RebuildWithTheSameCountReusesTheArrays) {
   Points p;
   for (int i = 0; i < 500; ++i) p.add(u(rng), u(rng), u(rng));
   CellList cl;
-  cl.build(b, p.x.data(), p.y.data(), p.z.data(), p.n(), 3.0);
+  build(cl, b, p, 3.0);
   const int* sorted = cl.sorted_index().data();
   const int* start = cl.cell_start().data();
   const int* cell = cl.cell_of().data();
   for (int i = 0; i < p.n(); ++i) p.x[i] = u(rng);
-  cl.build(b, p.x.data(), p.y.data(), p.z.data(), p.n(), 3.0);
+  build(cl, b, p, 3.0);
   EXPECT_EQ(cl.sorted_index().data(), sorted);
   EXPECT_EQ(cl.cell_start().data(), start);
   EXPECT_EQ(cl.cell_of().data(), cell);
@@ -179,7 +194,7 @@ TEST(CellList, SparseSystemInAHugeBoxIsCoarsenedNotExploded) {
   p.add(1.0, 2.0, 3.0);
   p.add(5e5, 5e5, 5e5);
   CellList cl;
-  cl.build(b, p.x.data(), p.y.data(), p.z.data(), p.n(), 1.0);
+  build(cl, b, p, 1.0);
   EXPECT_LE(cl.cell_count(), CellList::max_cells(p.n()));
   for (int a = 0; a < 3; ++a) EXPECT_GE(cl.cell_edge()[a], 1.0);
   EXPECT_NE(cl.dims()[2], 2);  // a periodic axis never has 2 cells

@@ -1,6 +1,8 @@
 // NeighborList against a brute-force all-pairs search with minimum image, for random polydisperse systems
 // with per-pair cutoffs, in periodic, non-periodic and mixed boxes, with one grid and with size classes
 // (size ratios 3 and 7); Verlet rebuild criterion; independence of the thread count.
+// Offload builds: the systems are made on the host and sent to the device (to_device) after every host-side
+// change, as a simulation does; the rows are read on the host after the list's to_host().
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -49,6 +51,7 @@ System random_system(int n, Vec3 lo, Vec3 len, std::array<bool, 3> periodic, std
     }
     s.p.add(i, 1, r[0], r[1], r[2], scale * (0.5 + u(rng)));
   }
+  to_device(s.p);
   return s;
 }
 
@@ -65,6 +68,7 @@ System wide_system(int n, Vec3 lo, Vec3 len, std::array<bool, 3> periodic, std::
   }
   s.p.radius[0] = 0.3;  // both ends of the range present
   s.p.radius[1] = 2.0;
+  to_device(s.p);
   return s;
 }
 
@@ -88,6 +92,7 @@ Pairs brute_force(const System& s, Cutoff cutoff, double skin) {
 }
 
 Pairs listed_pairs(const NeighborList& nl) {
+  nl.to_host();
   Pairs out;
   for (int i = 0; i < nl.rows(); ++i)
     for (int k = nl.offset()[i]; k < nl.offset()[i + 1]; ++k) out.emplace_back(i, nl.index()[k]);
@@ -159,9 +164,11 @@ TEST(NeighborList, PositionsOutsideThePeriodicBoxMatchBruteForce) {
       ++moved;
     }
   ASSERT_GT(moved, 100);
+  to_device(s.p);
   EXPECT_FALSE(NeighborList::inside_periodic_box(s.box.view(), s.p));
   expect_matches_brute_force(s, PolyCutoff{}, kMaxCutoff, kSkin);
   s.box.wrap(s.p);
+  to_device(s.p);
   EXPECT_TRUE(NeighborList::inside_periodic_box(s.box.view(), s.p));
 }
 
@@ -234,6 +241,7 @@ TEST(NeighborList, SizeRatioSevenMatchesBruteForce) {
   System out = per;
   for (std::size_t i = 0; i < out.p.size(); ++i)
     if (out.p.z[i] < 5 + 0.25 * 32) out.p.z[i] += 32;
+  to_device(out.p);  // a copy too: its columns are new device buffers
   EXPECT_FALSE(NeighborList::inside_periodic_box(out.box.view(), out.p));
   expect_matches_brute_force(out, PolyCutoff{}, kWideMaxCutoff, kSkin);
 }
@@ -249,6 +257,7 @@ TEST(NeighborList, CohesiveCutoffSizeRatioSevenMatchesBruteForce) {
     s.p.z[i] *= scale;
     s.p.radius[i] *= scale;
   }
+  to_device(s.p);
   const double max_cutoff = cutoff(2.0 * scale, 2.0 * scale);
   expect_matches_brute_force(s, cutoff, max_cutoff, 0.05 * scale);
 }
@@ -271,6 +280,7 @@ TEST(NeighborList, SizeClassesAreInputChecked) {
 TEST(NeighborList, RebuildOnlyAfterMovingMoreThanHalfTheSkin) {
   System s = random_system(500, {0, 0, 0}, {20, 20, 20}, {true, true, true}, 21);
   s.p.x[0] = 20.0 - 0.01;  // next to the periodic face
+  to_device(s.p);
   NeighborList nl;
   EXPECT_TRUE(nl.needs_rebuild(s.box.view(), s.p)) << "never built";
   nl.build(s.box.view(), s.p, PolyCutoff{}, kMaxCutoff, kSkin, NeighborKind::full);
@@ -290,6 +300,7 @@ TEST(NeighborList, RebuildOnlyAfterMovingMoreThanHalfTheSkin) {
     moved.p.z[i] += d.z;
   }
   moved.box.wrap(moved.p);
+  to_device(moved.p);
   ASSERT_NEAR(moved.p.x[0], 0.49 * kSkin - 0.01, 1e-12);
   ASSERT_EQ(moved.p.ix[0], 1);
   EXPECT_FALSE(nl.needs_rebuild(s.box.view(), moved.p));
@@ -297,8 +308,10 @@ TEST(NeighborList, RebuildOnlyAfterMovingMoreThanHalfTheSkin) {
   // One particle 0.51 skin: rebuild.
   System one = s;
   one.p.y[123] += 0.51 * kSkin;
+  to_device(one.p);
   EXPECT_TRUE(nl.needs_rebuild(s.box.view(), one.p));
   one.p.y[123] -= 0.02 * kSkin;  // 0.49 skin: fine again
+  to_device(one.p);
   EXPECT_FALSE(nl.needs_rebuild(s.box.view(), one.p));
 
   // Box length changed by more than skin / 2 in total, particles unmoved.
@@ -311,6 +324,7 @@ TEST(NeighborList, RebuildOnlyAfterMovingMoreThanHalfTheSkin) {
   // Particle count changed.
   System more = s;
   more.p.add(500, 1, 1.0, 1.0, 1.0, 1.0);
+  to_device(more.p);
   EXPECT_TRUE(nl.needs_rebuild(s.box.view(), more.p));
 }
 
@@ -329,6 +343,8 @@ TEST(NeighborList, SameRowsWithOneAndTwoThreads) {
         exec::set_threads(2);
         two.build(sys->box.view(), sys->p, PolyCutoff{}, max_cutoff, kSkin, kind);
         EXPECT_GT(one.entries(), 0);
+        one.to_host();
+        two.to_host();
         EXPECT_EQ(one.offset(), two.offset());
         EXPECT_EQ(one.index(), two.index());
         EXPECT_EQ(one.candidates(), two.candidates());
@@ -344,6 +360,8 @@ TEST(NeighborList, RowsFollowStencilThenCellOrder) {
   b.set_max_size_classes(1);
   a.build(s.box.view(), s.p, PolyCutoff{}, kMaxCutoff, kSkin, NeighborKind::full);
   b.build(s.box.view(), s.p, PolyCutoff{}, kMaxCutoff, kSkin, NeighborKind::full);
+  a.to_host();
+  b.to_host();
   EXPECT_EQ(a.index(), b.index());
   const auto& cell = a.cells().cell_of();
   for (int i = 0; i < a.rows(); ++i)

@@ -348,20 +348,12 @@ TEST(CheckpointCorruption, DemUnsealedFutureAndForeignFilesAndWrongContents) {
   r = restart(future, "future_out");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_TRUE(mentions(r.output, "format 99")) << r.output;
-  // Foreign files: a trajectory, a text file, a PeriDEM checkpoint.
+  // Foreign files: a trajectory, a text file (a PeriDEM checkpoint: DemAndPeridemCheckpointsAreToldApart).
   r = restart(d / "out" / "trajectory.h5", "traj_out");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_TRUE(mentions(r.output, "not a debris_dem checkpoint")) << r.output;
   r = restart(in, "text_out");
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  const fs::path pd_in = write(d, "pd.yaml", peridem_input(d / "pd", 20));
-  ASSERT_EQ(run_peridem("-i " + pd_in.string()).exit_code, 0);
-  r = restart(d / "pd" / "checkpoint.h5", "pd_out");
-  EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_TRUE(mentions(r.output, "not a debris_dem checkpoint")) << r.output;
-  r = run_peridem("--restart " + checkpoint.string() + " -o " + (d / "dem_as_pd").string());
-  EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_TRUE(mentions(r.output, "not a debris_peridem checkpoint")) << r.output;
 
   // Sealed, but wrong inside: each is found before it is used.
   struct Poke {
@@ -382,6 +374,25 @@ TEST(CheckpointCorruption, DemUnsealedFutureAndForeignFilesAndWrongContents) {
     EXPECT_TRUE(mentions(r.output, p.message) && mentions(r.output, "not a sound checkpoint"))
         << p.dataset << ": " << r.output;
   }
+}
+
+// Apart from the DEM checks above so that those run in the hostdevice build too, where the PeriDEM model
+// is not device-resident yet (CI stage 3 leaves out tests named Peridem).
+TEST(CheckpointCorruption, DemAndPeridemCheckpointsAreToldApart) {
+  const fs::path d = scratch("dem_pd_foreign");
+  const fs::path in = write(d, "run.yaml", dem_input(d / "out", 20));
+  ASSERT_EQ(run_dem("-i " + in.string()).exit_code, 0);
+  const fs::path checkpoint = d / "out" / "checkpoint.h5";
+  const fs::path pd_in = write(d, "pd.yaml", peridem_input(d / "pd", 20));
+  ASSERT_EQ(run_peridem("-i " + pd_in.string()).exit_code, 0);
+  const fs::path pd_checkpoint = d / "pd" / "checkpoint.h5";
+  CommandResult r =
+      run_dem("--restart " + pd_checkpoint.string() + " -i " + in.string() + " -o " + (d / "pd_out").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_TRUE(mentions(r.output, "not a debris_dem checkpoint")) << r.output;
+  r = run_peridem("--restart " + checkpoint.string() + " -o " + (d / "dem_as_pd").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_TRUE(mentions(r.output, "not a debris_peridem checkpoint")) << r.output;
 }
 
 TEST(CheckpointCorruption, PeridemUnsealedFileAndWrongContents) {
@@ -533,6 +544,11 @@ TEST(ThermoTable, ASplitRunHasTheWholeRunsTable) {
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_EQ(slurp(d / "whole" / "thermo.csv"), slurp(d / "split" / "thermo.csv"));
   }
+}
+
+// The same for PeriDEM (a test of its own: the hostdevice build leaves out tests named Peridem).
+TEST(ThermoTable, APeridemSplitRunHasTheWholeRunsTable) {
+  const fs::path d = scratch("pd_split_run");
   {
     const fs::path whole = write(d, "pd_whole.yaml", peridem_input(d / "pd_whole", 60));
     const fs::path half = write(d, "pd_half.yaml", peridem_input(d / "pd_split", 30));

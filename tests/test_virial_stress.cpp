@@ -34,7 +34,11 @@ CohesiveMaterial table4(double nu = 0.15, double s = 0.0, double eta = 1.0) {
   return m;
 }
 
-// Particles with masses, a full list over them and a zero history for that list.
+// Particles with masses, a full list over them and a zero history for that list. Offload builds: made on
+// the host and sent to the device, as a simulation does; the list's rows are also copied back, since the
+// tests read them. A test that changes the particles or the history on the host sends them again
+// (to_device) before a kernel reads them; a copied System's columns are new device buffers and are sent
+// too.
 struct System {
   Box box;
   Particles p;
@@ -47,12 +51,15 @@ void build_list(System& s, const CohesiveCoefficients& c, double skin) {
   for (double r : s.p.radius) r_max = std::max(r_max, r);
   const CohesiveCutoff cutoff{c};
   s.list.build(s.box.view(), s.p, cutoff, cutoff(r_max, r_max), skin, NeighborKind::full);
+  s.list.to_host();
   s.history.reset(s.list);
+  s.history.to_host();
 }
 
 System make_system(Box box, Particles p, const CohesiveCoefficients& c, double skin) {
   System s{box, std::move(p), {}, {}};
   s.p.set_mass_from_density(1.0);
+  to_device(s.p);
   build_list(s, c, skin);
   return s;
 }
@@ -123,12 +130,14 @@ TEST(VirialStress, ObliquePairIncludesTangentialSpringAndDamping) {
   s.p.wx = {2e-4, -1e-4};
   s.p.wy = {-3e-4, 5e-5};
   s.p.wz = {1e-4, 2e-4};
+  to_device(s.p);
   const Vec3 t1{2.0 / 3.0, 1.0 / 3.0, -2.0 / 3.0}, t2 = cross(n, t1);  // tangent plane of n
   const Vec3 h = 2.0 * t1 - 1.5 * t2;                                  // below the cap of eq 5
   ASSERT_EQ(s.list.entries(), 2);
   s.history.hx = {h.x, -h.x};  // row of i holds h, row of j the same spring seen from j
   s.history.hy = {h.y, -h.y};
   s.history.hz = {h.z, -h.z};
+  s.history.to_device();
   const auto hx0 = s.history.hx;
 
   const double volume = 3e5;
@@ -161,12 +170,16 @@ TEST(VirialStress, ObliquePairIncludesTangentialSpringAndDamping) {
   EXPECT_NEAR(st.xy, expected[0][1], 1e-13 * scale);  // LAMMPS order: r_x F_y
   EXPECT_NEAR(st.xz, expected[0][2], 1e-13 * scale);
   EXPECT_NEAR(st.yz, expected[1][2], 1e-13 * scale);
+  s.history.to_host();
   EXPECT_EQ(s.history.hx, hx0);
 
   // Pair torques from the contact pass: W_yz - W_zy = T_x over the whole sample, and so on.
   Particles torqued = s.p;
   ContactHistory hist = s.history;
+  to_device(torqued);
+  hist.to_device();
   cohesive_contact_pass(c, CohesiveOptions{}, s.box.view(), torqued, s.list, hist, 0.0, 0);
+  to_host(torqued);
   const double tx = torqued.tx[0] + torqued.tx[1], ty = torqued.ty[0] + torqued.ty[1],
                tz = torqued.tz[0] + torqued.tz[1];
   ASSERT_GT(std::abs(tx) + std::abs(ty) + std::abs(tz), 1e-3 * norm(r) * norm(f));
@@ -191,6 +204,7 @@ TEST(VirialStress, KineticPartOfFreeParticles) {
   s.p.vx = {0.3, -0.1, 0.2};
   s.p.vy = {-0.2, 0.4, 0.1};
   s.p.vz = {0.1, 0.05, -0.3};
+  to_device(s.p);
   const double volume = 7e6;
   const std::vector<int> mask = {1, 0, 1};
   for (const int* sel : {static_cast<const int*>(nullptr), mask.data()}) {
@@ -575,6 +589,9 @@ TEST(HcpPatchAnalytic, VirialOfThePairLawReproducesTheAffineStiffness) {
           s.history.hy[k] = ut.y;
           s.history.hz[k] = ut.z;
         }
+      to_device(s.p);
+      s.list.to_device();
+      s.history.to_device();
       sig[sign] = virial_stress(coef, CohesiveOptions{}, s.box.view(), s.p, s.list, s.history, nullptr, s.box.volume());
     }
     for (int b = 0; b < 3; ++b) normal_block(b, a) = (comp(sig[0], b, b) - comp(sig[1], b, b)) / (2 * h);

@@ -257,7 +257,7 @@ LammpsData read_lammps_data(const std::string& path, std::array<bool, 3> periodi
   // and so does this reader (an unwrapped position x + ix L_x would otherwise be off by whole box lengths).
   for (int axis = 0; axis < 3; ++axis) {
     if (periodic[static_cast<std::size_t>(axis)]) continue;
-    std::vector<int>& image = axis == 0 ? p.ix : axis == 1 ? p.iy : p.iz;
+    auto& image = axis == 0 ? p.ix : axis == 1 ? p.iy : p.iz;
     std::size_t reset = 0;
     for (int& c : image)
       if (c != 0) {
