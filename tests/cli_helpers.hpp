@@ -103,6 +103,48 @@ inline double csv_number(const std::map<std::string, std::string>& row, const st
   return std::stod(it->second);
 }
 
+/// A numeric CSV with a header row (thermo.csv): columns by name, rows of doubles.
+struct NumberTable {
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+  /// The index of column `name` (a test failure and 0 when it is missing).
+  std::size_t column(const std::string& name) const {
+    for (std::size_t k = 0; k < columns.size(); ++k)
+      if (columns[k] == name) return k;
+    ADD_FAILURE() << "no column " << name;
+    return 0;
+  }
+  /// Mean of column `name` over the rows whose first cell (the step) lies in [first, last].
+  double mean(const std::string& name, double first, double last) const {
+    const std::size_t c = column(name);
+    double sum = 0;
+    int count = 0;
+    for (const auto& r : rows)
+      if (r[0] >= first && r[0] <= last) {
+        sum += r[c];
+        ++count;
+      }
+    EXPECT_GT(count, 0);
+    return count ? sum / count : 0.0;
+  }
+};
+
+inline NumberTable read_number_table(const std::filesystem::path& path) {
+  NumberTable t;
+  std::istringstream in(slurp(path));
+  std::string line;
+  std::getline(in, line);
+  std::stringstream head(line);
+  for (std::string cell; std::getline(head, cell, ',');) t.columns.push_back(cell);
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) row.push_back(std::stod(cell));
+    t.rows.push_back(row);
+  }
+  return t;
+}
+
 /// How many frames an XDMF trajectory lists (one <Time> per frame).
 inline int count_xmf_frames(const std::filesystem::path& xmf) {
   const std::string x = slurp(xmf);

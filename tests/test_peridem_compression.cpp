@@ -8,8 +8,6 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -20,46 +18,6 @@ namespace {
 namespace fs = std::filesystem;
 using debris::test::CommandResult;
 
-struct Thermo {
-  std::vector<std::string> columns;
-  std::vector<std::vector<double>> rows;
-  int column(const std::string& name) const {
-    for (std::size_t k = 0; k < columns.size(); ++k)
-      if (columns[k] == name) return static_cast<int>(k);
-    ADD_FAILURE() << "no column " << name;
-    return 0;
-  }
-  // Mean of a column over the rows with first <= step <= last.
-  double mean(const std::string& name, double first, double last) const {
-    const int c = column(name);
-    double sum = 0;
-    int count = 0;
-    for (const auto& r : rows)
-      if (r[0] >= first && r[0] <= last) {
-        sum += r[static_cast<std::size_t>(c)];
-        ++count;
-      }
-    EXPECT_GT(count, 0);
-    return count ? sum / count : 0.0;
-  }
-};
-
-Thermo read_thermo(const fs::path& file) {
-  Thermo t;
-  std::ifstream in(file);
-  std::string line;
-  std::getline(in, line);
-  std::stringstream head(line);
-  for (std::string cell; std::getline(head, cell, ',');) t.columns.push_back(cell);
-  while (std::getline(in, line)) {
-    std::vector<double> row;
-    std::stringstream ss(line);
-    for (std::string cell; std::getline(ss, cell, ',');) row.push_back(std::stod(cell));
-    t.rows.push_back(row);
-  }
-  return t;
-}
-
 TEST(PeridemCompression, LidForceStartsRisesAndTheGrainsBreak) {
   const fs::path out = debris::test::fresh_directory("debris_peridem_compression_small");
   const CommandResult r = debris::test::run_command(
@@ -67,14 +25,14 @@ TEST(PeridemCompression, LidForceStartsRisesAndTheGrainsBreak) {
       "-i " + std::string(DEBRIS_SOURCE_DIR) + "/scenarios/peridem/compression_small.yaml -o " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("stage 1 'press' starts at step 2000"), std::string::npos) << r.output;
-  const Thermo t = read_thermo(out / "thermo.csv");
+  const debris::test::NumberTable t = debris::test::read_number_table(out / "thermo.csv");
   ASSERT_EQ(t.rows.back()[0], 18000);
-  const int lid = t.column("lid_fy"), broken = t.column("broken_bonds");
+  const std::size_t lid = t.column("lid_fy"), broken = t.column("broken_bonds");
   // Onset: nothing on the lid while the grains settle and the lid approaches; then it meets them.
   double first_touch = -1;
   for (const auto& row : t.rows) {
-    if (row[0] <= 2000) EXPECT_EQ(row[static_cast<std::size_t>(lid)], 0.0) << "step " << row[0];
-    if (first_touch < 0 && row[static_cast<std::size_t>(lid)] > 0) first_touch = row[0];
+    if (row[0] <= 2000) EXPECT_EQ(row[lid], 0.0) << "step " << row[0];
+    if (first_touch < 0 && row[lid] > 0) first_touch = row[0];
   }
   EXPECT_GT(first_touch, 2000);
   EXPECT_LT(first_touch, 6000);
@@ -85,7 +43,7 @@ TEST(PeridemCompression, LidForceStartsRisesAndTheGrainsBreak) {
   // Damage comes late, under load, and then fast.
   const auto at = [&](double step) {
     for (const auto& row : t.rows)
-      if (row[0] == step) return row[static_cast<std::size_t>(broken)];
+      if (row[0] == step) return row[broken];
     ADD_FAILURE() << "no row at step " << step;
     return 0.0;
   };

@@ -9,8 +9,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -20,33 +18,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using debris::test::CommandResult;
-
-struct Thermo {
-  std::vector<std::string> columns;
-  std::vector<std::vector<double>> rows;
-  std::size_t column(const std::string& name) const {
-    for (std::size_t k = 0; k < columns.size(); ++k)
-      if (columns[k] == name) return k;
-    ADD_FAILURE() << "no column " << name;
-    return 0;
-  }
-};
-
-Thermo read_thermo(const fs::path& file) {
-  Thermo t;
-  std::ifstream in(file);
-  std::string line;
-  std::getline(in, line);
-  std::stringstream head(line);
-  for (std::string cell; std::getline(head, cell, ',');) t.columns.push_back(cell);
-  while (std::getline(in, line)) {
-    std::vector<double> row;
-    std::stringstream ss(line);
-    for (std::string cell; std::getline(ss, cell, ',');) row.push_back(std::stod(cell));
-    t.rows.push_back(row);
-  }
-  return t;
-}
 
 // Replaces the one occurrence of `from` (the test fails if the shipped input no longer has it).
 std::string replace_once(std::string text, const std::string& from, const std::string& to) {
@@ -68,7 +39,7 @@ TEST(PeridemNoncircular, ConcaveGrainReboundsFromAConcaveGrainWithBoundedDamage)
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("889 nodes in 2 grains"), std::string::npos) << r.output;
 
-  const Thermo t = read_thermo(out / "thermo.csv");
+  const debris::test::NumberTable t = debris::test::read_number_table(out / "thermo.csv");
   ASSERT_GE(t.rows.size(), 2u);
   ASSERT_EQ(t.rows.back()[0], 2000);
   const std::size_t vy = t.column("top_vy"), top_broken = t.column("top_broken_bonds"),
