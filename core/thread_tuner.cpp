@@ -60,7 +60,6 @@ ThreadRequest request_threads(int command_line, int input) {
     return r;
   }
   r.source = "tuned";
-  omp_set_num_threads(r.most);
   // The tuner starts on one thread: the cheap guess on a loaded machine, and on a quiet one the probe
   // reaches the others within its first windows.
   the_process_tuner() = std::make_unique<ThreadTuner>(r.most, 1);
