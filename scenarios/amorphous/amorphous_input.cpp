@@ -4,6 +4,7 @@
 
 #include "core/error.hpp"
 #include "core/io/input.hpp"
+#include "scenarios/common/cohesive_material_input.hpp"
 
 namespace debris {
 
@@ -13,17 +14,7 @@ CohesiveMaterial read_material(const InputNode& root) {
   if (!root.has("material")) return table4_material();
   const InputNode m = root.child("material");
   const std::string preset = m.choice("preset", {"table4", "silica"}, "table4");
-  CohesiveMaterial mat = preset == "silica" ? silica_material() : table4_material();
-  mat.youngs_modulus = m.quantity("youngs_modulus", units::pressure, mat.youngs_modulus);
-  mat.poisson_ratio = m.quantity("poisson_ratio", units::dimensionless, mat.poisson_ratio);
-  mat.tensile_strength = m.quantity("tensile_strength", units::pressure, mat.tensile_strength);
-  mat.shear_strength = m.quantity("shear_strength", units::pressure, mat.shear_strength);
-  mat.surface_energy = m.quantity("surface_energy", units::surface_energy, mat.surface_energy);
-  mat.restitution = m.quantity("restitution", units::dimensionless, mat.restitution);
-  mat.density = m.quantity("density", units::density, mat.density);
-  mat.scaling = m.quantity("scaling", units::dimensionless, mat.scaling);
-  mat.validate("material");
-  return mat;
+  return read_cohesive_material(m, preset == "silica" ? silica_material() : table4_material());
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "core/lattice.hpp"
 #include "core/memory_budget.hpp"
 #include "core/region.hpp"
+#include "scenarios/common/cohesive_material_input.hpp"
 
 namespace debris {
 
@@ -30,20 +31,6 @@ using units::Dimension;
 int axis_of(const InputNode& n, const std::string& key, const std::string& fallback) {
   const std::string a = n.choice(key, {"x", "y", "z"}, fallback);
   return a == "x" ? 0 : (a == "y" ? 1 : 2);
-}
-
-CohesiveMaterial read_material(const InputNode& m) {
-  CohesiveMaterial mat;
-  mat.youngs_modulus = m.quantity("youngs_modulus", units::pressure);
-  mat.poisson_ratio = m.quantity("poisson_ratio", units::dimensionless);
-  mat.tensile_strength = m.quantity("tensile_strength", units::pressure);
-  mat.shear_strength = m.quantity("shear_strength", units::pressure);
-  mat.surface_energy = m.quantity("surface_energy", units::surface_energy);
-  mat.restitution = m.quantity("restitution", units::dimensionless);
-  mat.density = m.quantity("density", units::density);
-  mat.scaling = m.quantity("scaling", units::dimensionless, 0.0);
-  mat.validate("material");
-  return mat;
 }
 
 LatticeSpec read_lattice(const InputNode& l) {
@@ -341,7 +328,7 @@ DemRunConfig read_dem_input(const std::string& path) {
 
 DemRunConfig read_dem_input(const InputNode& root, const std::string& base_directory) {
   DemRunConfig cfg;
-  cfg.settings.material = read_material(root.child("material"));
+  cfg.settings.material = read_cohesive_material(root.child("material"), {}, {.required = true});
 
   // Particles: a built-in lattice or a LAMMPS data file (atom_style sphere).
   const InputNode parts = root.child("particles");

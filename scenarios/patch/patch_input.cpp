@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/io/input.hpp"
+#include "scenarios/common/cohesive_material_input.hpp"
 #include "core/io/lammps_data.hpp"
 #include "scenarios/patch/amorphous_cache.hpp"
 
@@ -100,12 +101,7 @@ PatchConfig read_patch_input_text(const std::string& text, const std::string& na
   std::vector<double> nus{base_material.poisson_ratio}, scalings{0.0};
   if (root.has("material")) {
     const InputNode m = root.child("material");
-    base_material.youngs_modulus = m.quantity("youngs_modulus", units::pressure, base_material.youngs_modulus);
-    base_material.tensile_strength = m.quantity("tensile_strength", units::pressure, base_material.tensile_strength);
-    base_material.shear_strength = m.quantity("shear_strength", units::pressure, base_material.shear_strength);
-    base_material.surface_energy = m.quantity("surface_energy", units::surface_energy, base_material.surface_energy);
-    base_material.restitution = m.quantity("restitution", units::dimensionless, base_material.restitution);
-    base_material.density = m.quantity("density", units::density, base_material.density);
+    base_material = read_cohesive_material(m, base_material, {.poisson_and_scaling = false});
     nus = one_or_list(m, "poisson_ratio", units::dimensionless, base_material.poisson_ratio);
     scalings = one_or_list(m, "scaling", units::dimensionless, 0.0);
   }
