@@ -6,6 +6,7 @@
 #include <chrono>
 #include <memory>
 #include <cstdlib>
+#include <fstream>
 #include <iomanip>
 #include <sstream>
 
@@ -63,20 +64,46 @@ ThreadRequest request_threads(int command_line, int input) {
   // The tuner starts on one thread: the cheap guess on a loaded machine, and on a quiet one the probe
   // reaches the others within its first windows.
   the_process_tuner() = std::make_unique<ThreadTuner>(r.most, 1);
-  omp_set_num_threads(r.most);  // the set-up still runs on all of them
+  r.setup = idle_cpus(r.most, &r.busy);
+  omp_set_num_threads(r.setup);
   return r;
+}
+
+int idle_cpus_from_proc_stat(const std::string& proc_stat, int most, int* busy) {
+  const std::string key = "procs_running ";
+  const std::size_t at = proc_stat.find("\n" + key);
+  const std::size_t from = at == std::string::npos ? (proc_stat.rfind(key, 0) == 0 ? 0 : std::string::npos)
+                                                   : at + 1;
+  if (from == std::string::npos) return most;
+  const long running = std::strtol(proc_stat.c_str() + from + key.size(), nullptr, 10);
+  const long others = std::max(0L, running - 1);  // this process's own thread is running: it reads the file
+  if (busy) *busy = static_cast<int>(std::min<long>(others, 1 << 20));
+  return static_cast<int>(std::clamp<long>(most - others, 1, most));
+}
+
+int idle_cpus(int most, int* busy) {
+  std::ifstream in("/proc/stat");
+  if (!in) return most;
+  std::stringstream text;
+  text << in.rdbuf();
+  return idle_cpus_from_proc_stat(text.str(), most, busy);
 }
 
 std::string describe(const ThreadRequest& request) {
   if (request.fixed > 0) return "threads: " + std::to_string(request.fixed) + " (" + request.source + ")";
   return "threads: tuned while stepping, 1 to " + std::to_string(request.most) +
          " (the count that steps fastest under this machine's load; --threads, run.threads or OMP_NUM_THREADS "
-         "fix it)";
+         "fix it); set-up on " + std::to_string(request.setup) + " (" + std::to_string(request.busy) +
+         " other process" + (request.busy == 1 ? "" : "es") + " running at start)";
 }
 
 
 ThreadTuner* process_tuner() { return the_process_tuner().get(); }
 void stop_tuning() { the_process_tuner().reset(); }
+
+void print_tuning_summary(std::ostream& out) {
+  if (const ThreadTuner* t = process_tuner()) out << t->summary() << "\n";
+}
 
 TunedStep::TunedStep() {
   if (ThreadTuner* t = process_tuner()) {

@@ -11,6 +11,7 @@
 // partitions and fixed-order sums), so changing the count between steps never changes a result.
 
 #include <cstddef>
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -21,13 +22,23 @@ struct ThreadRequest {
   int fixed = 0;       // > 0: the count the user gave; 0: tuned while stepping
   int most = 1;        // the most threads the tuner may use (the CPUs this process may run on)
   std::string source;  // "--threads", "run.threads", "OMP_NUM_THREADS", or "tuned"
+  int setup = 0;       // tuned: the threads the set-up runs on, the CPUs no other process was running on
+                       // when the run started (idle_cpus()); the tuner takes over at the first step
+  int busy = 0;        // tuned: other processes running then (/proc/stat procs_running, less this one)
 };
+
+/// CPUs of `most` that no other process is running on now: `most` less the runnable tasks of the whole
+/// machine (/proc/stat procs_running, this process's own thread not counted), at least 1. `most` when
+/// /proc/stat cannot be read. `procs_running` is what to parse (tests give their own text).
+int idle_cpus(int most, int* busy = nullptr);
+int idle_cpus_from_proc_stat(const std::string& proc_stat, int most, int* busy = nullptr);
 
 class ThreadTuner;
 
 /// Resolves the request: `command_line` (--threads) wins over `input` (run.threads), which wins over the
-/// OMP_NUM_THREADS environment variable. With none of them the count is tuned: the set-up runs on all `most`
-/// threads, and the process's tuner (process_tuner()) takes over at the first step. Sets the OpenMP thread
+/// OMP_NUM_THREADS environment variable. With none of them the count is tuned: the set-up runs on the CPUs
+/// that are idle when the run starts (on a loaded machine a thread given a busy CPU makes every barrier of
+/// the set-up wait for it), and the process's tuner (process_tuner()) takes over at the first step. Sets the OpenMP thread
 /// count and returns the request. The executables call it; a program that never does (tests, benchmarks)
 /// keeps OpenMP's own count and is never tuned.
 ThreadRequest request_threads(int command_line, int input);
@@ -37,6 +48,9 @@ std::string describe(const ThreadRequest& request);
 
 /// The process's tuner when request_threads() left the count to it; nullptr otherwise.
 ThreadTuner* process_tuner();
+/// Prints the process tuner's summary line (the counts it chose, and for how many steps) to `out`; prints
+/// nothing when the count was not tuned. Every executable ends its run with it.
+void print_tuning_summary(std::ostream& out);
 /// Ends the tuning (set_threads() and a fixed request call it: a count set by hand is kept).
 void stop_tuning();
 

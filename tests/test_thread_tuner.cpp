@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <functional>
 #include <map>
+#include <sstream>
+#include <string>
 
 #include "core/exec.hpp"
 #include "core/thread_tuner.hpp"
@@ -110,10 +112,39 @@ TEST(ThreadRequest, UserCountsWinInOrderAndOtherwiseTheCountIsTuned) {
     EXPECT_GE(r.most, 1);
     EXPECT_NE(describe(r).find("tuned while stepping"), std::string::npos);
     ASSERT_NE(process_tuner(), nullptr);
-    EXPECT_EQ(threads(), r.most);  // the set-up runs on all of them
+    EXPECT_GE(r.setup, 1);
+    EXPECT_LE(r.setup, r.most);
+    EXPECT_EQ(threads(), r.setup);  // the set-up runs on the CPUs idle at the start
+    EXPECT_NE(describe(r).find("set-up on " + std::to_string(r.setup)), std::string::npos);
     { TunedStep step; EXPECT_EQ(threads(), 1); }  // the tuner's count from the first step on
+    std::ostringstream summary;
+    print_tuning_summary(summary);
+    EXPECT_EQ(summary.str(), process_tuner()->summary() + "\n");  // the one line every executable ends with
   }
   set_threads(saved);
+  std::ostringstream none;
+  print_tuning_summary(none);  // a count set by hand ends the tuning: no summary
+  EXPECT_EQ(none.str(), "");
+}
+
+// The set-up's count: the CPUs no other process runs on, from /proc/stat's procs_running (which counts
+// this process's own running thread).
+TEST(ThreadRequest, SetUpThreadsAreTheCpusOtherProcessesLeaveIdle) {
+  const std::string quiet = "cpu  1 2 3\nctxt 5\nprocs_running 1\nprocs_blocked 0\n";
+  const std::string one_busy = "cpu  1 2 3\nprocs_running 2\nprocs_blocked 0\n";
+  const std::string crowded = "procs_running 9\n";
+  int busy = -1;
+  EXPECT_EQ(idle_cpus_from_proc_stat(quiet, 2, &busy), 2);
+  EXPECT_EQ(busy, 0);
+  EXPECT_EQ(idle_cpus_from_proc_stat(one_busy, 2, &busy), 1);
+  EXPECT_EQ(busy, 1);
+  EXPECT_EQ(idle_cpus_from_proc_stat(one_busy, 16, &busy), 15);
+  EXPECT_EQ(idle_cpus_from_proc_stat(crowded, 4, &busy), 1);  // never fewer than one
+  EXPECT_EQ(busy, 8);
+  EXPECT_EQ(idle_cpus_from_proc_stat("no such line\n", 4), 4);  // unreadable: all of them
+  const int here = idle_cpus(2);
+  EXPECT_GE(here, 1);
+  EXPECT_LE(here, 2);
 }
 
 }  // namespace

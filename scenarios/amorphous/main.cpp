@@ -200,7 +200,7 @@ int run(const Options& opt) {
             << std::setprecision(4) << "all samples: " << total
             << " s wall; summary: " << (dir / "summary.csv").string() << "\n";
   if (cfg.plot) std::cout << plot_volume_fraction(dir, cfg.d0s, cfg.scalings) << "\n";
-  if (const exec::ThreadTuner* tuner = exec::process_tuner()) std::cout << tuner->summary() << "\n";
+  exec::print_tuning_summary(std::cout);
   return 0;
 }
 

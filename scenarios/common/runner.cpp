@@ -145,7 +145,7 @@ int run_plan(RunPlan& plan, const std::string& program, const RunOptions& opt, C
 
     const std::string report = model.closing_report();
     if (!report.empty()) std::cout << report << "\n";
-    if (tuner) std::cout << tuner->summary() << "\n";
+    exec::print_tuning_summary(std::cout);
 
     // The pass table: set-up, each pass while stepping, output, and the rest (checks, stage changes, the
     // loop itself), so the shares add up to the total.

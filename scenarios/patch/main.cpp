@@ -167,7 +167,7 @@ int run(const Options& opt) {
       if (!r.ok) std::cerr << "  case " << r.c.index << " (" << describe_case(r.c) << "): " << r.error << "\n";
     return kExitUnfinished;
   }
-  if (const exec::ThreadTuner* tuner = exec::process_tuner()) std::cout << tuner->summary() << "\n";
+  exec::print_tuning_summary(std::cout);
   return 0;
 }
 

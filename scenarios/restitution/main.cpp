@@ -56,7 +56,7 @@ int run(const std::string& input, const std::string& output, int threads) {
                 r.top_max_damage, r.wall_seconds);
     std::fflush(stdout);
   }
-  if (const exec::ThreadTuner* tuner = exec::process_tuner()) std::cout << tuner->summary() << "\n";
+  exec::print_tuning_summary(std::cout);
   std::cout << "wrote " << csv_path << "\n";
   return 0;
 }
