@@ -2,7 +2,8 @@
 // packing (nearest-neighbour distance 100, diameters 100 +- 5%, periodic on all axes) of the paper's
 // Table 4 material (E = 1, nu = 0.15, sigma_mN = 0.2, sigma_mT = 0.1, gamma = 1.5, eta = 0.95, rho = 1,
 // s = 0: d_min = 30 < d < d_c = 150, delta_f = 30 inside the cutoff, 12 interacting neighbours each),
-// small random velocities, dt = 0.1 dt_c, N = 4,000 / 32,000 / 256,000 particles on 1 and 2 threads.
+// small random velocities, dt = 0.1 dt_c, N = 4,000 / 32,000 / 256,000 particles on 1 and 2 threads (the step
+// also at 1,048,576; DEBRIS_BENCH_SIZES=n1,n2,... replaces the sizes, see bench_sizes).
 //
 //   BM_Binning        CellList::build on the positions                        items = particles
 //   BM_NeighborBuild  NeighborList::build (full, CohesiveCutoff, engine skin)   items = particles
@@ -46,6 +47,7 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "core/cell_list.hpp"
 #include "core/contact_history.hpp"
@@ -418,19 +420,43 @@ BENCHMARK(BM_StepPolydisperse)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 
-void dem_args(benchmark::internal::Benchmark* b) {
+// The sizes (FCC boxes of 4 c^3 particles): N = 4,000, 32,000 and 256,000, and for the whole step also 1,048,576 (the size at which the
+// cost per particle-step should still be that of 32,000). DEBRIS_BENCH_SIZES (comma-separated particle
+// counts of the form 4 c^3) replaces them for every benchmark: bench/gpu_check.sh runs 256,000 to 16,384,000.
+std::vector<int> bench_sizes(bool whole_step) {
+  std::vector<int> sizes{4000, 32000, 256000};
+  if (whole_step) sizes.push_back(1048576);  // 4 x 64^3: the FCC box holds 4 c^3 particles
+  if (const char* env = std::getenv("DEBRIS_BENCH_SIZES"); env && *env) {
+    sizes.clear();
+    for (const char* p = env; *p;) {
+      char* end = nullptr;
+      const long n = std::strtol(p, &end, 10);
+      if (end == p || n < 1 || n > 100000000 || (*end != ',' && *end != '\0')) {
+        std::fprintf(stderr, "DEBRIS_BENCH_SIZES = '%s': give particle counts (1 to 1e8) separated by commas\n", env);
+        std::exit(2);
+      }
+      sizes.push_back(static_cast<int>(n));
+      p = *end == ',' ? end + 1 : end;
+    }
+  }
+  return sizes;
+}
+
+void size_args(benchmark::internal::Benchmark* b, bool whole_step) {
   b->ArgNames({"N", "threads"});
-  for (int n : {4000, 32000, 256000})
+  for (int n : bench_sizes(whole_step))
     for (int t : {1, 2}) b->Args({n, t});
   b->UseRealTime();
   b->Unit(benchmark::kMillisecond);
 }
+void dem_args(benchmark::internal::Benchmark* b) { size_args(b, false); }
+void step_args(benchmark::internal::Benchmark* b) { size_args(b, true); }
 
 BENCHMARK(BM_Binning)->Apply(dem_args);
 BENCHMARK(BM_NeighborBuild)->Apply(dem_args);
 BENCHMARK(BM_CohesivePass)->Apply(dem_args);
 BENCHMARK(BM_CohesivePassFullList)->Apply(dem_args);
-BENCHMARK(BM_Step)->Apply(dem_args);
+BENCHMARK(BM_Step)->Apply(step_args);
 BENCHMARK(BM_Rebuild)->Apply(dem_args);
 
 }  // namespace
