@@ -173,8 +173,11 @@ class DemRunModel final : public RunModel {
 
   std::vector<PassTime> pass_times() const override {
     const PassTimes& t = sim_.times();
+    std::string rebuilds = "(";  // appended, not "(" + ... + ...: GCC 12 warns falsely (-Wrestrict) on that
+    rebuilds += std::to_string(t.rebuilds);
+    rebuilds += " rebuilds in all, binning included)";
     std::vector<PassTime> rows{
-        {"neighbours", t.neighbours, "(" + std::to_string(t.rebuilds) + " rebuilds in all, binning included)"},
+        {"neighbours", t.neighbours, rebuilds},
         {"contact", t.contact, ""},
         {"integration", t.integration, ""},
         {"groups/damp", t.other, ""}};
