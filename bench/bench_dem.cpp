@@ -7,7 +7,7 @@
 //
 //   BM_Binning        CellList::build on the positions                        items = particles
 //   BM_NeighborBuild  NeighborList::build (full, CohesiveCutoff, engine skin)   items = particles
-//   BM_CohesivePass   zero_forces + the host pass over the half list (what the engine runs)  items = particles, pairs/s
+//   BM_CohesivePass   the host pass over the half list (what the engine runs; it sets f)  items = particles, pairs/s
 //   BM_CohesivePassFullList   the same over the full list (the GPU path)
 //   BM_Step           DemSimulation::step(), the whole engine                   items = particle-steps
 //   BM_Rebuild        DemSimulation::rebuild_neighbors(): wrap, sort by cell, build, carry the history
@@ -281,8 +281,7 @@ void BM_CohesivePass(benchmark::State& state) {
     state.PauseTiming();
     restore_history(s.half_history, s.half_history0);
     state.ResumeTiming();
-    zero_forces(s.p);
-    cohesive_contact_pass_half(s.table, s.options, box, s.p, s.half, s.half_history, s.dt, 1, s.scratch);
+    cohesive_contact_pass_half(s.table, s.options, box, s.p, s.half, s.half_history, s.dt, 1, s.scratch);  // sets f
     benchmark::DoNotOptimize(s.p.fx.data());
     benchmark::ClobberMemory();
   }

@@ -224,6 +224,9 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
     // share is filed at the pair's index.
     DEBRIS_HOST_FOR
     for (int b = 0; b < blocks; ++b) {
+      // The block's rows start from zero here, not in a sweep of their own (this thread owns them; phase 2
+      // reads them only after the loop barrier).
+      for (int i = block_row[b]; i < block_row[b + 1]; ++i) fx[i] = fy[i] = fz[i] = tx[i] = ty[i] = tz[i] = 0.0;
       const int k_end = offset[block_row[b + 1]];
       int cur = -1;
       double sfx = 0, sfy = 0, sfz = 0, stx = 0, sty = 0, stz = 0;

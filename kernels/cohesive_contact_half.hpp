@@ -38,7 +38,9 @@ struct HalfPassScratch {
   std::size_t bytes() const;
 };
 
-/// Adds the pair forces and torques to f and t. `list` must be a half list, `scratch` indexed for it.
+/// Sets f and t to the pair forces and torques: each block of rows is zeroed by the thread that sums it, so
+/// the step needs no zero_forces sweep before it (one parallel region and one pass over f, t fewer; the same
+/// bits: 0 + the row's sum, as before). `list` must be a half list, `scratch` indexed for it.
 void cohesive_contact_pass_half(const CohesivePairTable& table, const CohesiveOptions& opt, const BoxView& box,
                                 Particles& p, const NeighborList& list, ContactHistory& history, double dt,
                                 int update_history, HalfPassScratch& scratch);

@@ -144,8 +144,7 @@ void DemSimulation::index_half_pass() {
 void DemSimulation::compute_forces(int update_history) {
   auto t0 = Clock::now();
   particles_to_device();
-  zero_forces(p_);
-  if (pass_ == PairPass::half) {
+  if (pass_ == PairPass::half) {  // sets the forces (zeroes them itself)
     // Host threads. In offload builds (where the half pass is chosen only on request, for tests) the state
     // makes a round trip around it.
     device_changed(false);
@@ -158,6 +157,7 @@ void DemSimulation::compute_forces(int update_history) {
       history_.to_device();
     }
   } else {
+    zero_forces(p_);
     cohesive_contact_pass(coef_, settings_.options, box_.view(), p_, list_, history_, dt_, update_history);
   }
   device_changed(update_history != 0);
