@@ -39,6 +39,7 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -298,11 +299,20 @@ void BM_Step(benchmark::State& state) {
   DemSystem& s = dem_system(n);
   DemSimulation& sim = *s.sim;
   const long rebuilds0 = sim.times().rebuilds;
+  exec::reset_transfer_stats();
+  const auto t0 = std::chrono::steady_clock::now();
   for (auto _ : state) {
     sim.step();
   }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const long rebuilds = sim.times().rebuilds - rebuilds0;
   state.SetItemsProcessed(state.iterations() * n);
+  // Host <-> device transfers inside the timed steps (offload builds; issue 12's goal is none between output
+  // steps): bytes per step, and their share of the wall time. Zero in host builds.
+  const exec::TransferStats moved = exec::transfer_stats();
+  const double steps = static_cast<double>(state.iterations());
+  state.counters["transfer_bytes_per_step"] = (moved.to_host_bytes + moved.to_device_bytes) / steps;
+  state.counters["transfer_share"] = seconds > 0 ? (moved.to_host_seconds + moved.to_device_seconds) / seconds : 0.0;
   state.counters["rebuilds_per_1k_steps"] = 1000.0 * static_cast<double>(rebuilds) / static_cast<double>(state.iterations());
   state.counters["steps_since_setup"] = static_cast<double>(sim.step_count());
   if (first_non_finite(sim.particles()) >= 0) state.SkipWithError("the simulation blew up");

@@ -17,18 +17,38 @@
 # Usage: bash bench/gpu_check.sh   (BUILD=build-nvptx OUT=gpu_check_out by default). Exit 2: no GPU or no
 # build; 1: kernels fell back to the host or a test failed. Each step is time-limited so the whole stays
 # under 8 minutes.
+#
+# Rehearsal without a GPU: REHEARSAL=1 bash bench/gpu_check.sh runs every step the same way on the
+# hostdevice build (BUILD=build-hostdevice by default; build it with -DDEBRIS_OFFLOAD=hostdevice and clang 19,
+# benchmarks on), where the host CPU is a device with its own memory, at small sizes (BENCH_SIZES, default
+# 4000,32000): so the first GPU run is not the script's first run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-BUILD=${BUILD:-build-nvptx}
+REHEARSAL=${REHEARSAL:-0}
+if [ "$REHEARSAL" = 1 ]; then
+  BUILD=${BUILD:-build-hostdevice}
+  BENCH_SIZES=${BENCH_SIZES:-4000,32000}
+  TEST_SECONDS=${TEST_SECONDS:-900}  # the host CPU runs the device's kernels: the test subset takes minutes
+  device_line="the host CPU as a separate-memory device"
+else
+  BUILD=${BUILD:-build-nvptx}
+  BENCH_SIZES=${BENCH_SIZES:-256000,1048576,4000000,16384000}
+  TEST_SECONDS=${TEST_SECONDS:-180}
+  device_line="GPU"
+fi
 OUT=${OUT:-gpu_check_out}
 mkdir -p "$OUT"
 say() { echo "gpu_check ($((SECONDS / 60)) min $((SECONDS % 60)) s): $*"; }
 
-if ! gpu=$(nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv,noheader 2>/dev/null); then
-  say "no NVIDIA GPU here (nvidia-smi failed): nothing to check"
+if [ "$REHEARSAL" = 1 ]; then
+  gpu="none: rehearsal on $BUILD ($device_line)"
+  [ -x "$BUILD/bin/debris_dem" ] && [ -x "$BUILD/bin/debris_bench" ] ||
+    { say "rehearsal: no hostdevice build with benchmarks in $BUILD"; exit 2; }
+elif ! gpu=$(nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv,noheader 2>/dev/null); then
+  say "no NVIDIA GPU here (nvidia-smi failed): nothing to check (REHEARSAL=1 rehearses on the hostdevice build)"
   exit 2
 fi
-say "GPU: $gpu"
+say "device: $gpu"
 
 if [ ! -x "$BUILD/bin/debris_dem" ] || [ ! -x "$BUILD/bin/debris_bench" ]; then
   say "building the nvptx configuration in $BUILD"
@@ -39,20 +59,20 @@ fi
 export OMP_TARGET_OFFLOAD=MANDATORY
 say "where the kernels run"
 timeout 60 "$BUILD/bin/debris_dem" -i scenarios/dem/default.yaml -o "$OUT/dem_default" --threads 1 >"$OUT/dem_default.log" 2>&1 ||
-  { say "debris_dem failed on the GPU:"; tail -20 "$OUT/dem_default.log"; exit 1; }
+  { say "debris_dem failed on the device:"; tail -20 "$OUT/dem_default.log"; exit 1; }
 head -1 "$OUT/dem_default.log"
-grep -q "kernels run on GPU" "$OUT/dem_default.log" || { say "kernels fell back to the host"; exit 1; }
+grep -q "kernels run on $device_line" "$OUT/dem_default.log" || { say "kernels fell back to the host"; exit 1; }
 
 say "offload tests (MANDATORY)"
 # The selection of .ci/run's hostdevice stage: tests/offload_excluded_tests.txt, and the PeriDEM model.
 test_status=0
-timeout 180 ctest --test-dir "$BUILD" -j4 --output-on-failure \
+timeout "$TEST_SECONDS" ctest --test-dir "$BUILD" -j4 --output-on-failure \
   -E "$(grep -v '^#' tests/offload_excluded_tests.txt | paste -sd'|')|^Pd|Peridem" \
   >"$OUT/ctest.log" 2>&1 || test_status=1
 grep -E "tests passed|tests failed" "$OUT/ctest.log" || true
 
 say "device benchmarks"
-DEBRIS_BENCH_SIZES=256000,1048576,4000000,16384000 timeout 150 "$BUILD/bin/debris_bench" \
+DEBRIS_BENCH_SIZES=$BENCH_SIZES timeout 150 "$BUILD/bin/debris_bench" \
   --benchmark_filter='BM_(Step|CohesivePassFullList|NeighborBuild|Rebuild)/N:[0-9]+/threads:1/' \
   --benchmark_min_time=0.3 --benchmark_format=json --benchmark_out="$OUT/bench.json" >/dev/null 2>"$OUT/bench.log" ||
   say "the benchmarks failed or ran over 150 s (what finished is in $OUT/bench.json)"
@@ -65,15 +85,18 @@ try:
 except (OSError, ValueError):
     runs = []
 print(f"GPU: {gpu}; offload tests: {'passed' if tests == '0' else 'FAILED (see ctest.log)'}\n")
-print("| benchmark | N | items/s | real time per iteration |")
-print("|---|---|---|---|")
+print("| benchmark | N | items/s | real time per iteration | bytes/particle on the device | transfers per step |")
+print("|---|---|---|---|---|---|")
 for r in runs:
     if r.get("run_type") == "aggregate":
         continue
     parts = r["name"].split("/")
     n = next((p[2:] for p in parts if p.startswith("N:")), "")
     rate = r.get("items_per_second", 0.0)
-    print(f"| {parts[0]} | {n} | {rate / 1e6:.2f} M | {r['real_time']:.3g} {r['time_unit']} |")
+    moved = r.get("transfer_bytes_per_step")
+    moved_text = "" if moved is None else f"{moved:.3g} B ({100 * r.get('transfer_share', 0):.2g}% of the time)"
+    print(f"| {parts[0]} | {n} | {rate / 1e6:.2f} M | {r['real_time']:.3g} {r['time_unit']} | "
+          f"{r.get('bytes_per_particle', 0):.0f} | {moved_text} |")
 EOF
 cat "$OUT/table.md"
 say "done; files in $OUT/"
