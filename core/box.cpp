@@ -2,6 +2,7 @@
 
 #include "core/exec.hpp"
 
+#include <cmath>
 #include <sstream>
 
 #include "core/error.hpp"
@@ -11,6 +12,23 @@ namespace debris {
 
 namespace {
 double comp(Vec3 v, int a) { return a == 0 ? v.x : (a == 1 ? v.y : v.z); }
+
+DEBRIS_DECLARE_TARGET
+// One coordinate of a periodic axis folded into [lo, lo + len), its image count moved with it: what
+// Box::wrap does on the host and Box::wrap_resident in a kernel.
+inline void fold_into_box(double& x, int& image, double lo, double len) {
+  const double shift = std::floor((x - lo) / len);
+  if (shift != 0.0) {
+    x -= shift * len;
+    image += static_cast<int>(shift);
+    // Round-off can leave x == hi exactly; fold it once more.
+    if (x >= lo + len) {
+      x -= len;
+      image += 1;
+    }
+  }
+}
+DEBRIS_END_DECLARE_TARGET
 }  // namespace
 
 Box::Box(Vec3 lo, Vec3 hi, std::array<bool, 3> periodic) : lo_(lo), hi_(hi), periodic_(periodic) {
@@ -47,18 +65,7 @@ void Box::wrap(Particles& p) const {
     double* x = pos[a];
     int* im = img[a];
     const double lo = b.lo[a], len = b.len[a];
-    for (int i = 0; i < n; ++i) {
-      const double shift = std::floor((x[i] - lo) / len);
-      if (shift != 0.0) {
-        x[i] -= shift * len;
-        im[i] += static_cast<int>(shift);
-        // Round-off can leave x == hi exactly; fold it once more.
-        if (x[i] >= lo + len) {
-          x[i] -= len;
-          im[i] += 1;
-        }
-      }
-    }
+    for (int i = 0; i < n; ++i) fold_into_box(x[i], im[i], lo, len);
   }
 }
 
@@ -75,17 +82,7 @@ void Box::wrap_resident(Particles& p) const {
     const double lo = b.lo[a], len = b.len[a];
     DEBRIS_RESIDENT(x, im);
     DEBRIS_KERNEL
-    for (int i = 0; i < n; ++i) {
-      const double shift = std::floor((x[i] - lo) / len);
-      if (shift != 0.0) {
-        x[i] -= shift * len;
-        im[i] += static_cast<int>(shift);
-        if (x[i] >= lo + len) {
-          x[i] -= len;
-          im[i] += 1;
-        }
-      }
-    }
+    for (int i = 0; i < n; ++i) fold_into_box(x[i], im[i], lo, len);
   }
 #else
   wrap(p);
