@@ -12,6 +12,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/error.hpp"  // kExitInput, kExitUnfinished
@@ -96,14 +97,24 @@ struct RunPlan {
   exec::ThreadRequest threads;  // fixed by the user, or tuned while stepping (core/thread_tuner.hpp)
 };
 
-/// The output fields every executable's output settings share (directory, thermo_every, checkpoint_every,
-/// progress_seconds), copied into the plan.
-template <class Output>
-void take_output_settings(RunPlan& plan, const Output& out) {
-  plan.directory = out.directory;
-  plan.thermo_every = out.thermo_every;
-  plan.checkpoint_every = out.checkpoint_every;
-  plan.progress_seconds = out.progress_seconds;
+/// The plan of a run from its configuration: every executable's config names its run length `steps`, its
+/// `stages` and its `output` settings (directory, thermo_every, checkpoint_every, progress_seconds) alike.
+/// The caller adds the model.
+template <class Config>
+RunPlan make_run_plan(const Config& cfg, double dt, bool restored, const exec::ThreadRequest& threads,
+                      std::string input_text) {
+  RunPlan plan;
+  plan.restored = restored;
+  plan.threads = threads;
+  plan.input_text = std::move(input_text);
+  plan.steps = cfg.steps;
+  plan.stages = cfg.stages;
+  plan.dt = dt;
+  plan.directory = cfg.output.directory;
+  plan.thermo_every = cfg.output.thermo_every;
+  plan.checkpoint_every = cfg.output.checkpoint_every;
+  plan.progress_seconds = cfg.output.progress_seconds;
+  return plan;
 }
 
 /// The input of a run: the file given with -i, or on restart without one, the text the checkpoint keeps.

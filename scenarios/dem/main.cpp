@@ -240,14 +240,7 @@ RunPlan prepare(const RunOptions& opt) {
         if (static_cast<std::size_t>(gc.group) >= sim.groups().size() ||
             sim.groups().list[static_cast<std::size_t>(gc.group)].name != gc.motion.name)
           throw input_error("stages.groups.name", gc.motion.name, "is not a group of the checkpoint's system");
-  RunPlan plan;
-  plan.restored = restored.has_value();
-  plan.threads = threads;
-  plan.input_text = in.text;
-  plan.steps = cfg.steps;
-  plan.stages = cfg.stages;
-  plan.dt = sim.dt();
-  take_output_settings(plan, cfg.output);
+  RunPlan plan = make_run_plan(cfg, sim.dt(), restored.has_value(), threads, in.text);
   auto model = std::make_unique<DemRunModel>(std::move(sim), std::move(cfg));
   std::cout << model->describe() << "\n";
   plan.model = std::move(model);

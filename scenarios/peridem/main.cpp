@@ -272,14 +272,7 @@ RunPlan prepare(const RunOptions& opt) {
   }
   PeridemSimulation& sim = restored ? *restored : *built;
   std::cout << sim.summary() << "\n";
-  RunPlan plan;
-  plan.restored = restored.has_value();
-  plan.threads = threads;
-  plan.input_text = in.text;
-  plan.steps = cfg.steps;
-  plan.stages = cfg.stages;
-  plan.dt = sim.dt();
-  take_output_settings(plan, cfg.output);
+  RunPlan plan = make_run_plan(cfg, sim.dt(), restored.has_value(), threads, in.text);
   plan.model = std::make_unique<PeridemRunModel>(std::move(sim), std::move(cfg));
   return plan;
 }
