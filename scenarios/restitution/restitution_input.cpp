@@ -41,9 +41,10 @@ std::vector<RestitutionCase> read_restitution_input_text(const std::string& text
   base.mesh_directory = (std::filesystem::path(output) / "meshes").string();
   // Mesh files are relative to the input file's directory.
   const std::filesystem::path input_dir = std::filesystem::path(name).parent_path();
-  auto mesh_path = [&](const std::string& f) {
+  auto mesh_path = [&](const std::string& f, const std::string& key) {
     std::filesystem::path p(f);
     if (p.is_relative()) p = input_dir / p;
+    if (!std::filesystem::is_regular_file(p)) throw input_error(key, p.string(), "no such file");
     return p.string();
   };
   // circle_meshes: [{radius: 3 mm, file: a.msh}, ...]: every grain of that radius is that Gmsh file's mesh
@@ -53,7 +54,7 @@ std::vector<RestitutionCase> read_restitution_input_text(const std::string& text
     for (const InputNode& e : root.list("circle_meshes")) {
       const double r = e.quantity("radius", u::length);
       if (!(r > 0) || !std::isfinite(r)) throw input_error(e.path() + ".radius", format_value(r), "must be > 0");
-      circle_meshes.emplace_back(r, mesh_path(e.string("file")));
+      circle_meshes.emplace_back(r, mesh_path(e.string("file"), e.path() + ".file"));
       e.reject_unknown_keys();
     }
   }
@@ -105,7 +106,7 @@ std::vector<RestitutionCase> read_restitution_input_text(const std::string& text
     if (c.has("meshes")) {
       // [bottom.msh, top.msh]: Gmsh files instead of meshing the circles (the authors' own meshes).
       std::vector<std::string> files;
-      for (const InputNode& e : c.list("meshes")) files.push_back(mesh_path(e.text()));
+      for (const InputNode& e : c.list("meshes")) files.push_back(mesh_path(e.text(), c.path() + ".meshes"));
       if (files.size() != 2)
         throw input_error(c.path() + ".meshes", std::to_string(files.size()) + " files", "give [bottom, top]");
       k.spec.bottom_mesh_file = files[0];
