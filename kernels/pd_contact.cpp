@@ -116,9 +116,36 @@ void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& no
   const int* __restrict partner_node = list.slot_partner_node().data();
   const int* __restrict pair_offset = list.slot_pair_offset().data();
   const int* __restrict pair_i = list.slot_pair_i().data(), *__restrict pair_j = list.slot_pair_j().data();
-  const double* __restrict cx = grains.cx.data(), *__restrict cy = grains.cy.data(), *__restrict cz = grains.cz.data();
-  const double* __restrict cvx = grains.cvx.data(), *__restrict cvy = grains.cvy.data();
-  const double* __restrict cvz = grains.cvz.data();
+  // Not __restrict: with centre nodes they are pointed at the work arrays written just below.
+  const double *cx = grains.cx.data(), *cy = grains.cy.data(), *cz = grains.cz.data();
+  const double *cvx = grains.cvx.data(), *cvy = grains.cvy.data(), *cvz = grains.cvz.data();
+  if (!work.centre_node.empty()) {
+    // The centre node's position and velocity stand for the grain's centre in eqs 26-29.
+    if (static_cast<int>(work.centre_node.size()) != ng)
+      throw std::logic_error("pd contact: one centre node per grain is needed");
+    for (auto* v : {&work.node_cx, &work.node_cy, &work.node_cz, &work.node_cvx, &work.node_cvy, &work.node_cvz})
+      v->resize(static_cast<std::size_t>(ng));
+    const int* __restrict centre = work.centre_node.data();
+    double* __restrict ncx = work.node_cx.data(), *__restrict ncy = work.node_cy.data();
+    double* __restrict ncz = work.node_cz.data(), *__restrict ncvx = work.node_cvx.data();
+    double* __restrict ncvy = work.node_cvy.data(), *__restrict ncvz = work.node_cvz.data();
+    DEBRIS_KERNEL
+    for (int p = 0; p < ng; ++p) {
+      const int c = centre[p];
+      ncx[p] = x[c];
+      ncy[p] = y[c];
+      ncz[p] = z[c];
+      ncvx[p] = vx[c];
+      ncvy[p] = vy[c];
+      ncvz[p] = vz[c];
+    }
+    cx = ncx;
+    cy = ncy;
+    cz = ncz;
+    cvx = ncvx;
+    cvy = ncvy;
+    cvz = ncvz;
+  }
   const double* __restrict g_vol = work.grain_volume.data(), *__restrict g_mass = work.grain_mass.data();
   double* __restrict sfx = work.slot_fx.data(), *__restrict sfy = work.slot_fy.data();
   double* __restrict sfz = work.slot_fz.data();

@@ -43,6 +43,11 @@ struct PdContactWork {
   std::vector<int> slot_touching;                    // 1 when the slot's grains are in contact
   std::vector<double> slot_fx, slot_fy, slot_fz;     // damping force of each grain-pair slot on its owner
   std::vector<double> grain_fx, grain_fy, grain_fz;  // total centre damping force on each grain
+  // Per grain, when not empty: the centre damping takes z_c, v_c of eq 26 from this node (the authors' code
+  // uses the grain's centre node, BaseParticle::getXCenter / getVCenter) instead of the volume-weighted
+  // means of grains.cx .. cvz. Set by the caller; the grain centres themselves stay the means.
+  std::vector<int> centre_node;
+  std::vector<double> node_cx, node_cy, node_cz, node_cvx, node_cvy, node_cvz;  // scratch for centre_node
 };
 
 /// Per-grain reduction: volume-weighted centre and mean velocity of every grain into grains.cx .. cvz, and

@@ -182,6 +182,24 @@ PeridemSimulation::PeridemSimulation(PdNodes nodes, PdGrains grains, std::vector
                       "is above the stable step " + format_value(stable_dt_) +
                           " s of eq 32 for these bonds and contacts (set run.allow_unstable_time_step: true to insist)");
 
+  if (settings_.damping_centre_node) {
+    // Each grain's centre node: the node nearest its volume-weighted centre now (for a PeriDEM circle mesh,
+    // the embedded centre point).
+    pd_grain_centres(nodes_, grains_, work_);
+    work_.centre_node.assign(grains_.size(), 0);
+    for (std::size_t g = 0; g < grains_.size(); ++g) {
+      double best = std::numeric_limits<double>::infinity();
+      for (int i = grains_.node_begin[g]; i < grains_.node_end[g]; ++i) {
+        const double dx = nodes_.x[i] - grains_.cx[g], dy = nodes_.y[i] - grains_.cy[g];
+        const double dz = nodes_.z[i] - grains_.cz[g];
+        const double d2 = dx * dx + dy * dy + dz * dz;
+        if (d2 < best) {
+          best = d2;
+          work_.centre_node[g] = i;
+        }
+      }
+    }
+  }
   skin_ = settings_.skin > 0 ? settings_.skin : table_.max_contact_radius();
   for (std::size_t g = 0; g < grains_.size(); ++g)
     grain_names_.push_back((is_particle(grains_, static_cast<int>(g)) ? "grain" : "wall") + std::to_string(g));

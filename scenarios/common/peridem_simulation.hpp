@@ -31,6 +31,10 @@ struct PeridemSettings {
   bool allow_unstable_time_step = false;  // the user insists on a step above the stable one
   Vec3 gravity{};                         // m/s^2, acts on particle nodes
   PdDamping damping = PdDamping::grain_centres;
+  // grain_centres only: take each grain's centre and velocity in eqs 26-29 from its centre node (the node
+  // nearest its volume-weighted centre at set-up), as the authors' code does, instead of the means of its
+  // nodes. Not kept in checkpoints (a restart passes its settings again).
+  bool damping_centre_node = false;
   double skin = 0;  // Verlet skin of the contact list; 0 = the contact radius R_c
 };
 

@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "core/grain_placement.hpp"
+#include "core/io/gmsh_msh.hpp"
 #include "core/shape_mesh.hpp"
 #include "scenarios/common/peridem_simulation.hpp"
 
@@ -18,6 +19,18 @@ constexpr double kPi = 3.14159265358979323846;
 
 void check_positive(double v, const char* key) {
   if (!(v > 0) || !std::isfinite(v)) throw input_error(key, format_value(v), "must be > 0");
+}
+
+// A circle of radius `radius`: Gmsh's mesh at `mesh_size`, or the given MSH file's mesh (about its origin,
+// R_ref its largest node distance from the origin, so that placing it scales it to `radius`).
+ReferenceGrain circle_grain(const std::string& file, double radius, double mesh_size, const GmshRun& gmsh, int material,
+                            const std::string& what) {
+  if (file.empty())
+    return make_reference_grain(mesh_shape(ShapeSpec::make_circle(radius, mesh_size), gmsh), radius, material, what);
+  SimplexMesh mesh = read_gmsh_msh(file);
+  double r_ref = 0.0;
+  for (const Vec3& v : mesh.nodes) r_ref = std::max(r_ref, norm(v));
+  return make_reference_grain(std::move(mesh), r_ref, material, what + " (" + file + ")");
 }
 
 }  // namespace
@@ -37,10 +50,10 @@ TwoParticleDropResult run_two_particle_drop(const TwoParticleDrop& spec) {
   // bottom grain 0 (material 0), top grain 1 (material 1) turned by pi/2 as in the authors' particle list.
   GmshRun gmsh;
   gmsh.directory = spec.mesh_directory.empty() ? std::string("pd_meshes") : spec.mesh_directory;
-  const SimplexMesh bottom_mesh = mesh_shape(ShapeSpec::make_circle(spec.bottom_radius, spec.mesh_size), gmsh);
-  const SimplexMesh top_mesh = mesh_shape(ShapeSpec::make_circle(spec.top_radius, spec.mesh_size), gmsh);
-  const ReferenceGrain bottom_ref = make_reference_grain(bottom_mesh, spec.bottom_radius, 0, "bottom grain");
-  const ReferenceGrain top_ref = make_reference_grain(top_mesh, spec.top_radius, 1, "top grain");
+  const ReferenceGrain bottom_ref =
+      circle_grain(spec.bottom_mesh_file, spec.bottom_radius, spec.mesh_size, gmsh, 0, "bottom grain");
+  const ReferenceGrain top_ref =
+      circle_grain(spec.top_mesh_file, spec.top_radius, spec.mesh_size, gmsh, 1, "top grain");
 
   const double gap0 = spec.full_drop ? spec.drop_height : std::min(spec.start_gap, spec.drop_height);
   PdNodes nodes;
@@ -61,6 +74,7 @@ TwoParticleDropResult run_two_particle_drop(const TwoParticleDrop& spec) {
   settings.time_step = spec.time_step;
   settings.gravity = Vec3{0.0, -spec.gravity, 0.0};
   settings.damping = spec.damping;
+  settings.damping_centre_node = spec.damping_centre_node;
   settings.allow_unstable_time_step = spec.allow_unstable_time_step;
   PeridemSimulation sim(nodes, grains, {spec.bottom_material, spec.top_material}, {contact}, settings);
   if (!(spec.initial_speed >= 0)) throw input_error("initial_speed", format_value(spec.initial_speed), "must be >= 0");

@@ -38,6 +38,14 @@ struct TwoParticleDrop {
   bool full_drop = false;           // run the whole fall from H0 at rest and the whole rise
   long max_steps = 5000000;         // error when the rebound is not over by then
   std::string mesh_directory;       // where Gmsh's meshes are cached
+  // Gmsh MSH files to use instead of meshing the circles here (e.g. the meshes the authors' code ran on);
+  // empty: mesh at mesh_size. A file's mesh is taken about its origin, R_ref = its largest node distance
+  // from the origin, and scaled to the grain's radius.
+  std::string bottom_mesh_file, top_mesh_file;
+  // Where the centre damping (eqs 26-30) takes each grain's centre and velocity: the volume-weighted means
+  // of its nodes (false, debris's default) or its centre node, the node nearest the grain's centroid at
+  // set-up (true, what the authors' code does: BaseParticle::getXCenter / getVCenter).
+  bool damping_centre_node = false;
 };
 
 struct TwoParticleDropResult {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <utility>
 
 #include "core/error.hpp"
 #include "core/io/input.hpp"
@@ -36,7 +37,32 @@ std::vector<RestitutionCase> read_restitution_input_text(const std::string& text
   base.damping = root.choice("damping", {"grain_centres", "node_pairs"}, "grain_centres") == "grain_centres"
                      ? PdDamping::grain_centres
                      : PdDamping::node_pairs;
+  base.damping_centre_node = root.choice("damping_centre", {"mean", "centre_node"}, "mean") == "centre_node";
   base.mesh_directory = (std::filesystem::path(output) / "meshes").string();
+  // Mesh files are relative to the input file's directory.
+  const std::filesystem::path input_dir = std::filesystem::path(name).parent_path();
+  auto mesh_path = [&](const std::string& f, const std::string& key) {
+    std::filesystem::path p(f);
+    if (p.is_relative()) p = input_dir / p;
+    if (!std::filesystem::is_regular_file(p)) throw input_error(key, p.string(), "no such file");
+    return p.string();
+  };
+  // circle_meshes: [{radius: 3 mm, file: a.msh}, ...]: every grain of that radius is that Gmsh file's mesh
+  // (the meshes the authors' code ran on) instead of one Gmsh makes here; a case's `meshes` overrides it.
+  std::vector<std::pair<double, std::string>> circle_meshes;
+  if (root.has("circle_meshes")) {
+    for (const InputNode& e : root.list("circle_meshes")) {
+      const double r = e.quantity("radius", u::length);
+      if (!(r > 0) || !std::isfinite(r)) throw input_error(e.path() + ".radius", format_value(r), "must be > 0");
+      circle_meshes.emplace_back(r, mesh_path(e.string("file"), e.path() + ".file"));
+      e.reject_unknown_keys();
+    }
+  }
+  auto circle_mesh = [&](double r) {
+    for (const auto& [radius, file] : circle_meshes)
+      if (std::abs(radius - r) <= 1e-9 * radius) return file;
+    return std::string();
+  };
 
   std::vector<RestitutionCase> cases;
   for (const InputNode& c : root.list("cases")) {
@@ -67,6 +93,24 @@ std::vector<RestitutionCase> read_restitution_input_text(const std::string& text
       if (!(horizon > 0) || !std::isfinite(horizon))
         throw input_error(c.path() + ".horizon", format_value(horizon), "must be > 0");
       k.spec.bottom_material.horizon = k.spec.top_material.horizon = horizon;
+    }
+    // Settings a case may change for itself (isolating runs: one setting moved, the rest as above).
+    k.spec.contact_radius_factor = c.quantity("contact_radius_factor", u::dimensionless, base.contact_radius_factor);
+    k.spec.damping_factor = c.quantity("damping_factor", u::dimensionless, base.damping_factor);
+    k.spec.damping_onset_factor = c.quantity("damping_onset_factor", u::dimensionless, base.damping_onset_factor);
+    k.spec.start_gap = c.quantity("start_gap", u::length, base.start_gap);
+    if (c.has("damping_centre"))
+      k.spec.damping_centre_node = c.choice("damping_centre", {"mean", "centre_node"}, "mean") == "centre_node";
+    k.spec.bottom_mesh_file = circle_mesh(k.spec.bottom_radius);
+    k.spec.top_mesh_file = circle_mesh(k.spec.top_radius);
+    if (c.has("meshes")) {
+      // [bottom.msh, top.msh]: Gmsh files instead of meshing the circles (the authors' own meshes).
+      std::vector<std::string> files;
+      for (const InputNode& e : c.list("meshes")) files.push_back(mesh_path(e.text(), c.path() + ".meshes"));
+      if (files.size() != 2)
+        throw input_error(c.path() + ".meshes", std::to_string(files.size()) + " files", "give [bottom, top]");
+      k.spec.bottom_mesh_file = files[0];
+      k.spec.top_mesh_file = files[1];
     }
     k.paper = c.quantity("paper", u::dimensionless, -1.0);
     c.reject_unknown_keys();
