@@ -11,13 +11,12 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <random>
 #include <string>
 
 #include "core/exec.hpp"
-#include "core/lattice.hpp"
 #include "scenarios/common/dem_simulation.hpp"
 #include "tests/cli_helpers.hpp"
+#include "tests/dem_samples.hpp"
 
 namespace debris {
 namespace {
@@ -77,41 +76,6 @@ TEST(DeviceResidencyDeathTest, KernelOnAnArrayNeverEnteredAborts) {
   DEBRIS_RESIDENT(b);  // entered by its allocator: no abort
 }
 
-// A sheared, loaded HCP block with a frozen base, a rigid top under a load and a free probe group: rebuilds,
-// re-sorts, history carry-over, group sums and global damping all take part.
-DemSimulation sheared_block() {
-  LatticeSpec l;
-  l.kind = LatticeKind::hcp;
-  l.spacing = 100;
-  l.diameter = 100;
-  l.size_spread = 0.04;
-  l.displacement = 1.0;
-  l.cells = {5, 4, 2};
-  Lattice lat = make_lattice(l);
-  Box box(lat.box.lo(), lat.box.hi(), {true, false, true});
-  Particles p = lat.particles;
-  std::mt19937_64 rng(7);
-  std::uniform_real_distribution<double> u(-0.01, 0.01);
-  for (std::size_t i = 0; i < p.size(); ++i) p.vx[i] = u(rng), p.vy[i] = u(rng), p.wz[i] = u(rng) / 50;
-  Groups g;
-  Group top{"top", GroupMotion::force};
-  top.external_force = {20.0, -50.0, 0.0};
-  const int gt = g.add(top), gb = g.add(Group{"bottom", GroupMotion::frozen}),
-            gp = g.add(Group{"probe", GroupMotion::free});
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (p.y[i] > box.hi().y - 90) p.group[i] = gt;
-    else if (p.y[i] < box.lo().y + 90) p.group[i] = gb;
-    else if (p.x[i] < 200) p.group[i] = gp;
-  }
-  DemSettings s;
-  s.material = table4_material();
-  s.material.restitution = 0.9;
-  s.time_step_fraction = 0.1;
-  s.global_damping = 0.02;
-  s.skin = 0.5;  // small: many rebuilds
-  return DemSimulation(box, p, g, s);
-}
-
 struct DemResult {
   Particles p;
   exec::DeviceVector<double> hx, hy, hz;
@@ -121,7 +85,7 @@ struct DemResult {
 };
 
 DemResult run_dem_model(long steps) {
-  DemSimulation sim = sheared_block();
+  DemSimulation sim = test::sheared_dem_system();
   sim.run(steps);
   DemResult r;
   r.diag = sim.diagnostics();
