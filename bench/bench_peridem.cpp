@@ -182,7 +182,7 @@ PeridemDeck load_peridem_deck(const std::string& dir) {
       for (const YAML::Node& dir_node : need(set, "Direction", path)) {
         const int axis = dir_node.as<int>();
         if (axis < 1 || axis > 3) throw input_error(path + ".Direction", std::to_string(axis), "must be 1, 2 or 3");
-        std::vector<double>& v = axis == 1 ? d.grains.wall_vx : axis == 2 ? d.grains.wall_vy : d.grains.wall_vz;
+        auto& v = axis == 1 ? d.grains.wall_vx : axis == 2 ? d.grains.wall_vy : d.grains.wall_vz;
         v[static_cast<std::size_t>(gi)] = rate;
       }
     }
@@ -206,7 +206,7 @@ struct PdSystem {
   BondList bonds;
   PdContactList list, built;
   PdContactWork work;
-  std::vector<PdLpsConstants> lps;
+  PdLpsTable lps;
   PdContactTable table;
   PdDamping damping = PdDamping::grain_centres;
   double dt = 0, cutoff = 0, skin = 0;

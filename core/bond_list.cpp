@@ -9,6 +9,7 @@
 #include "core/box.hpp"
 #include "core/cell_list.hpp"
 #include "core/error.hpp"
+#include "core/exec.hpp"
 #include "core/pd_nodes.hpp"
 
 namespace debris {
@@ -55,6 +56,11 @@ BondList BondList::build(const PdNodes& nodes, const PdGrains& grains, const std
   check_grains(nodes, grains, horizon_of_grain);
   const int n = static_cast<int>(nodes.size());
   const double *x0 = nodes.x0.data(), *y0 = nodes.y0.data(), *z0 = nodes.z0.data();
+  // The search reads the host's reference positions; the cell lists bin the device's (offload builds):
+  // send them first (3n doubles, once per build).
+  exec::to_device(nodes.x0);
+  exec::to_device(nodes.y0);
+  exec::to_device(nodes.z0);
 
   // Per grain: a cell list of edge >= horizon over the grain's nodes, the 27 cells around each node, rows
   // sorted ascending. Two passes over the same search (count, then fill) keep the CSR arrays exact-size.

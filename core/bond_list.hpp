@@ -4,10 +4,15 @@
 // rows from both ends (row i lists every partner j, row j lists i), so the bond passes write only to the
 // row's own node, with no atomics, on host threads and on a GPU alike. A bond breaks irreversibly
 // (eq 10); `broken` is kept per stored entry and both ends of a bond always agree.
+// Offload builds: every array is an exec::DeviceVector; build() fills the host copies, to_device(bonds)
+// sends them, and the bond passes change `broken` on the device only (to_host(bonds.broken) before the host
+// reads it).
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
+
+#include "core/exec.hpp"
 
 namespace debris {
 
@@ -16,16 +21,16 @@ struct PdGrains;
 
 class BondList {
  public:
-  std::vector<int> offset;              // size nodes() + 1: bonds of i are [offset[i], offset[i+1])
-  std::vector<int> partner;             // j of each entry, ascending within a row
-  std::vector<double> length0;          // reference length |x0_j - x0_i| of each entry
-  std::vector<unsigned char> broken;    // 1 once broken, never healed
+  exec::DeviceVector<int> offset;              // size nodes() + 1: bonds of i are [offset[i], offset[i+1])
+  exec::DeviceVector<int> partner;             // j of each entry, ascending within a row
+  exec::DeviceVector<double> length0;          // reference length |x0_j - x0_i| of each entry
+  exec::DeviceVector<unsigned char> broken;    // 1 once broken, never healed
 
   /// Scratch of the bond passes (kernels/pd_bond_passes.cpp), sized by them: the node factors P_i, Q_i of
   /// lps_node_factors, interleaved, written from theta before every force sweep (by pd_bond_step's dilatation
   /// sweep, or by pd_bond_force_pass itself). Not bond data: nothing reads it across calls, and copies or
   /// checkpoints need not keep it. Mutable because the passes read the bonds as const.
-  mutable std::vector<double> node_factors;
+  mutable exec::DeviceVector<double> node_factors;
 
   std::size_t nodes() const { return offset.empty() ? 0 : offset.size() - 1; }
   std::size_t entries() const { return partner.size(); }
@@ -44,5 +49,20 @@ class BondList {
   /// the nodes, a particle grain's horizon is not finite and > 0, or two nodes of a grain coincide.
   static BondList build(const PdNodes& nodes, const PdGrains& grains, const std::vector<double>& horizon_of_grain);
 };
+
+/// Transfer points for the bond data (offset, partner, length0, broken; not the scratch): no-ops in host
+/// builds.
+inline void to_host(const BondList& b) {
+  exec::to_host(b.offset);
+  exec::to_host(b.partner);
+  exec::to_host(b.length0);
+  exec::to_host(b.broken);
+}
+inline void to_device(const BondList& b) {
+  exec::to_device(b.offset);
+  exec::to_device(b.partner);
+  exec::to_device(b.length0);
+  exec::to_device(b.broken);
+}
 
 }  // namespace debris

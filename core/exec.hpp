@@ -45,6 +45,9 @@
   DEBRIS_PRAGMA(omp target teams distribute parallel for reduction(+ : a, b, c) map(tofrom : a, b, c))
 #define DEBRIS_KERNEL_MAX(v) DEBRIS_PRAGMA(omp target teams distribute parallel for reduction(max : v) map(tofrom : v))
 #define DEBRIS_KERNEL_MIN(v) DEBRIS_PRAGMA(omp target teams distribute parallel for reduction(min : v) map(tofrom : v))
+#define DEBRIS_KERNEL_MINMAX3(l0, l1, l2, h0, h1, h2)                                                         \
+  DEBRIS_PRAGMA(omp target teams distribute parallel for reduction(min : l0, l1, l2) reduction(max : h0, h1, h2) \
+                    map(tofrom : l0, l1, l2, h0, h1, h2))
 #define DEBRIS_DECLARE_TARGET DEBRIS_PRAGMA(omp declare target)
 #define DEBRIS_END_DECLARE_TARGET DEBRIS_PRAGMA(omp end declare target)
 #else
@@ -54,6 +57,8 @@
 #define DEBRIS_KERNEL_SUM3(a, b, c) DEBRIS_PRAGMA(omp parallel for schedule(static) reduction(+ : a, b, c))
 #define DEBRIS_KERNEL_MAX(v) DEBRIS_PRAGMA(omp parallel for simd schedule(static) reduction(max : v))
 #define DEBRIS_KERNEL_MIN(v) DEBRIS_PRAGMA(omp parallel for schedule(static) reduction(min : v))
+#define DEBRIS_KERNEL_MINMAX3(l0, l1, l2, h0, h1, h2) \
+  DEBRIS_PRAGMA(omp parallel for schedule(static) reduction(min : l0, l1, l2) reduction(max : h0, h1, h2))
 #define DEBRIS_DECLARE_TARGET
 #define DEBRIS_END_DECLARE_TARGET
 #endif

@@ -138,27 +138,43 @@ void PdContactList::build(const PdNodes& nodes, const PdGrains& grains, const Bo
   const int n = static_cast<int>(nodes.size());
   const double reach = cutoff + skin;
 
-  // Cells over the bounding box of the current positions (serial: one pass per rebuild).
+  const double* __restrict x = nodes.x.data();
+  const double* __restrict y = nodes.y.data();
+  const double* __restrict z = nodes.z.data();
+  DEBRIS_RESIDENT(x, y, z);
+
+  // Cells over the bounding box of the current positions (a min/max reduction: exact on any thread count).
+  // As the serial scan it replaced, which started from node 0: a NaN compares false and is skipped, except
+  // at node 0, where it made the box NaN (refused below, as is an infinite coordinate anywhere).
   BoxView box{};
-  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-  const double* pos[3] = {nodes.x.data(), nodes.y.data(), nodes.z.data()};
-  for (int a = 0; a < 3; ++a) {
-    if (n > 0) lo[a] = hi[a] = pos[a][0];
-    for (int i = 1; i < n; ++i) {
-      lo[a] = std::min(lo[a], pos[a][i]);
-      hi[a] = std::max(hi[a], pos[a][i]);
+  double lo0 = 0, lo1 = 0, lo2 = 0, hi0 = 0, hi1 = 0, hi2 = 0;
+  if (n > 0) {
+    const double inf = std::numeric_limits<double>::infinity();
+    lo0 = lo1 = lo2 = inf;
+    hi0 = hi1 = hi2 = -inf;
+    DEBRIS_KERNEL_MINMAX3(lo0, lo1, lo2, hi0, hi1, hi2)
+    for (int i = 0; i < n; ++i) {
+      const double xi = x[i], yi = y[i], zi = z[i];
+      const double nan_at_0 = i == 0 && !(xi == xi && yi == yi && zi == zi) ? inf : -inf;
+      lo0 = xi < lo0 ? xi : lo0;
+      lo1 = yi < lo1 ? yi : lo1;
+      lo2 = zi < lo2 ? zi : lo2;
+      hi0 = xi > hi0 ? xi : hi0;
+      hi0 = nan_at_0 > hi0 ? nan_at_0 : hi0;
+      hi1 = yi > hi1 ? yi : hi1;
+      hi2 = zi > hi2 ? zi : hi2;
     }
+  }
+  const double lo[3] = {lo0, lo1, lo2}, hi[3] = {hi0, hi1, hi2};
+  for (int a = 0; a < 3; ++a) {
     if (!(std::isfinite(lo[a]) && std::isfinite(hi[a])))
       throw input_error("pd_nodes.position", "(not finite)", "every node position must be finite to build contacts");
     box.lo[a] = lo[a];
     box.len[a] = std::max(hi[a] - lo[a], reach);  // a flat axis (2D) is one cell
     box.periodic[a] = 0;
   }
-  cells_.build(box, nodes.x.data(), nodes.y.data(), nodes.z.data(), n, reach);
+  cells_.build(box, x, y, z, n, reach);
 
-  const double* __restrict x = nodes.x.data();
-  const double* __restrict y = nodes.y.data();
-  const double* __restrict z = nodes.z.data();
   const int* __restrict grain = nodes.grain.data();
   const int* __restrict kind = grains.kind.data();
   const int has_bonds = bonds.offset.empty() ? 0 : 1;
@@ -178,13 +194,16 @@ void PdContactList::build(const PdNodes& nodes, const PdGrains& grains, const Bo
   row_buffer_.resize(static_cast<std::size_t>(n) * kRowBuffer);
   int* __restrict off = offset_.data();
   int* __restrict buffer = row_buffer_.data();
+  DEBRIS_RESIDENT(x, y, z, grain, kind, b_offset, b_partner, b_broken, cell_of, cell_start, sorted, off, buffer);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     off[i + 1] =
         contact_row(i, x, y, z, cell_of, cell_start, sorted, n0, n1, n2, reach2, grain, kind, b_offset, b_partner,
                     b_broken, has_bonds, buffer + static_cast<std::size_t>(i) * kRowBuffer, kRowBuffer);
   }
-  // Serial prefix sum: the offsets do not depend on the thread count.
+  // Serial prefix sum on the host: the offsets do not depend on the thread count (offload builds: the row
+  // counts come to the host, the offsets go back).
+  exec::to_host(offset_);
   long long total = 0;
   off[0] = 0;
   for (int i = 1; i <= n; ++i) {
@@ -193,8 +212,10 @@ void PdContactList::build(const PdNodes& nodes, const PdGrains& grains, const Bo
       throw input_error("pd_contact.skin", format_value(skin), "too many contact candidates for int offsets");
     off[i] = static_cast<int>(total);
   }
+  exec::to_device(offset_);
   index_.resize(static_cast<std::size_t>(total));
   int* __restrict idx = index_.data();
+  DEBRIS_RESIDENT(x, y, z, grain, kind, b_offset, b_partner, b_broken, cell_of, cell_start, sorted, off, buffer, idx);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     const int count = off[i + 1] - off[i];
@@ -208,14 +229,26 @@ void PdContactList::build(const PdNodes& nodes, const PdGrains& grains, const Bo
     sort_row(idx + off[i], count);
   }
 
-  x0_.assign(nodes.x.begin(), nodes.x.end());
-  y0_.assign(nodes.y.begin(), nodes.y.end());
-  z0_.assign(nodes.z.begin(), nodes.z.end());
+  // The positions of this build, copied where they are (the device in offload builds).
+  x0_.resize(static_cast<std::size_t>(n));
+  y0_.resize(static_cast<std::size_t>(n));
+  z0_.resize(static_cast<std::size_t>(n));
+  double* __restrict bx = x0_.data(), *__restrict by = y0_.data(), *__restrict bz = z0_.data();
+  DEBRIS_RESIDENT(x, y, z, bx, by, bz);
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    bx[i] = x[i];
+    by[i] = y[i];
+    bz[i] = z[i];
+  }
   rows_ = n;
   cutoff_ = cutoff;
   skin_ = skin;
   built_ = true;
   stale_ = false;
+  // The slots are built on the host from the rows (offload builds: entries() ints to the host; the slot
+  // arrays go to the device at the end of build_slots).
+  exec::to_host(index_);
   build_slots(nodes, grains);
 }
 
@@ -275,6 +308,17 @@ void PdContactList::build_slots(const PdNodes& nodes, const PdGrains& grains) {
     const int jn = slot_partner_node_[static_cast<std::size_t>(s)];
     if (jn >= 0) wall_slot_[static_cast<std::size_t>(cursor[static_cast<std::size_t>(jn)]++)] = s;
   }
+  for (const auto* v : {&grain_slot_offset_, &slot_owner_, &slot_partner_grain_, &slot_partner_node_,
+                        &slot_pair_offset_, &slot_pair_i_, &slot_pair_j_, &wall_slot_offset_, &wall_slot_})
+    exec::to_device(*v);
+}
+
+void PdContactList::to_host() const {
+  exec::to_host(offset_);
+  exec::to_host(index_);
+  exec::to_host(x0_);
+  exec::to_host(y0_);
+  exec::to_host(z0_);
 }
 
 long PdContactList::add_broken_bonds(const BondList& bonds) {
@@ -295,6 +339,7 @@ long PdContactList::add_broken_bonds(const BondList& bonds) {
   // one particle grain, so may_touch holds for every broken one.
   added_.resize(static_cast<std::size_t>(n) + 1);
   int* __restrict add = added_.data();
+  DEBRIS_RESIDENT(x, y, z, b_offset, b_partner, b_broken, off, idx, add);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     int count = 0;
@@ -307,6 +352,8 @@ long PdContactList::add_broken_bonds(const BondList& bonds) {
     }
     add[i + 1] = count;
   }
+  // Prefix sum on the host (offload builds: n ints each way, on steps that broke bonds only).
+  exec::to_host(added_);
   long long total = 0;
   add[0] = 0;
   for (int i = 1; i <= n; ++i) {
@@ -314,12 +361,14 @@ long PdContactList::add_broken_bonds(const BondList& bonds) {
     add[i] = static_cast<int>(total);
   }
   if (total == 0) return 0;
+  exec::to_device(added_);
   if (total + static_cast<long long>(entries()) > std::numeric_limits<int>::max())
     throw input_error("pd_contact.skin", format_value(skin_), "too many contact candidates for int offsets");
 
   // Merge each row with its new partners (both ascending) into the spare index array, then swap.
   spare_index_.resize(index_.size() + static_cast<std::size_t>(total));
   int* __restrict out = spare_index_.data();
+  DEBRIS_RESIDENT(x, y, z, b_offset, b_partner, b_broken, off, idx, add, out);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     const int* a = idx + off[i];
@@ -336,7 +385,9 @@ long PdContactList::add_broken_bonds(const BondList& bonds) {
     }
     while (a < a_end) *o++ = *a++;
   }
+  // The host copy of offset_ is current since the build's prefix sum (or the last addition).
   for (int i = 1; i <= n; ++i) offset_[static_cast<std::size_t>(i)] += added_[static_cast<std::size_t>(i)];
+  exec::to_device(offset_);
   index_.swap(spare_index_);
   return static_cast<long>(total);
 }
@@ -351,6 +402,7 @@ bool PdContactList::needs_rebuild(const PdNodes& nodes) const {
   const double* __restrict y0 = y0_.data();
   const double* __restrict z0 = z0_.data();
   double max_d2 = 0.0;
+  DEBRIS_RESIDENT(x, y, z, x0, y0, z0);
   DEBRIS_KERNEL_MAX(max_d2)
   for (int i = 0; i < n; ++i) {
     const double dx = x[i] - x0[i], dy = y[i] - y0[i], dz = z[i] - z0[i];

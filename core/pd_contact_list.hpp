@@ -16,11 +16,17 @@
 // p, partner) with partner a grain q != p or, when q is a wall, one wall node (section 3.2 treats every wall
 // node as a grain of its own); it lists the node pairs of the Verlet list behind it. The slots of a grain
 // are contiguous, so the damping pass is O(N): one pass over slots, one over grains, one over nodes.
+//
+// Offload builds: every array is an exec::DeviceVector. The searches, the copy of the build positions and
+// the in-place additions run on the device; the host does what is serial: the cell counting sort (CellList),
+// the two prefix sums (n ints each way) and the grain-pair slots (the rows come to the host, the slots go
+// to the device), once per build. The host copies of the rows are current after to_host().
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
 #include "core/cell_list.hpp"
+#include "core/exec.hpp"
 
 namespace debris {
 
@@ -48,9 +54,17 @@ class PdContactList {
   /// added (entries, each pair counted from both ends).
   long add_broken_bonds(const BondList& bonds);
 
+  /// Transfer point (offload builds): the rows and the build positions, device -> host, for the host's
+  /// readers (checks, diagnostics, checkpoints). The slots are built on the host and are always current.
+  void to_host() const;
+
   int rows() const { return rows_; }
-  const std::vector<int>& offset() const { return offset_; }  // size rows() + 1
-  const std::vector<int>& index() const { return index_; }    // partner j of each entry
+  const exec::DeviceVector<int>& offset() const { return offset_; }  // size rows() + 1
+  const exec::DeviceVector<int>& index() const { return index_; }    // partner j of each entry
+  /// Node positions at the last build (what a checkpoint saves to rebuild this list exactly).
+  const exec::DeviceVector<double>& x_at_build() const { return x0_; }
+  const exec::DeviceVector<double>& y_at_build() const { return y0_; }
+  const exec::DeviceVector<double>& z_at_build() const { return z0_; }
   int entries() const { return offset_.empty() ? 0 : offset_.back(); }
   double cutoff() const { return cutoff_; }
   double skin() const { return skin_; }
@@ -58,16 +72,16 @@ class PdContactList {
 
   // Grain-pair slots.
   int slots() const { return static_cast<int>(slot_owner_.size()); }
-  const std::vector<int>& grain_slot_offset() const { return grain_slot_offset_; }    // size grains + 1
-  const std::vector<int>& slot_owner() const { return slot_owner_; }                  // particle grain p
-  const std::vector<int>& slot_partner_grain() const { return slot_partner_grain_; }  // grain q (maybe a wall)
-  const std::vector<int>& slot_partner_node() const { return slot_partner_node_; }    // wall node, or -1
-  const std::vector<int>& slot_pair_offset() const { return slot_pair_offset_; }      // size slots() + 1
-  const std::vector<int>& slot_pair_i() const { return slot_pair_i_; }                // node of p
-  const std::vector<int>& slot_pair_j() const { return slot_pair_j_; }                // node of the partner
+  const exec::DeviceVector<int>& grain_slot_offset() const { return grain_slot_offset_; }    // size grains + 1
+  const exec::DeviceVector<int>& slot_owner() const { return slot_owner_; }                  // particle grain p
+  const exec::DeviceVector<int>& slot_partner_grain() const { return slot_partner_grain_; }  // grain q (maybe a wall)
+  const exec::DeviceVector<int>& slot_partner_node() const { return slot_partner_node_; }    // wall node, or -1
+  const exec::DeviceVector<int>& slot_pair_offset() const { return slot_pair_offset_; }      // size slots() + 1
+  const exec::DeviceVector<int>& slot_pair_i() const { return slot_pair_i_; }                // node of p
+  const exec::DeviceVector<int>& slot_pair_j() const { return slot_pair_j_; }                // node of the partner
   /// Slots whose partner is wall node j: wall_slot()[wall_slot_offset()[j] .. wall_slot_offset()[j+1]).
-  const std::vector<int>& wall_slot_offset() const { return wall_slot_offset_; }  // size rows() + 1
-  const std::vector<int>& wall_slot() const { return wall_slot_; }
+  const exec::DeviceVector<int>& wall_slot_offset() const { return wall_slot_offset_; }  // size rows() + 1
+  const exec::DeviceVector<int>& wall_slot() const { return wall_slot_; }
 
   std::size_t bytes() const;
 
@@ -75,16 +89,16 @@ class PdContactList {
   void build_slots(const PdNodes& nodes, const PdGrains& grains);
 
   CellList cells_;
-  std::vector<int> offset_, index_;
-  std::vector<int> added_, spare_index_;  // add_broken_bonds: new entries per row (prefix sum), merged rows
-  std::vector<double> x0_, y0_, z0_;  // positions at the last build
+  exec::DeviceVector<int> offset_, index_;
+  exec::DeviceVector<int> added_, spare_index_;  // add_broken_bonds: new entries per row (prefix sum), merged rows
+  exec::DeviceVector<double> x0_, y0_, z0_;  // positions at the last build
   int rows_ = 0;
   double cutoff_ = 0, skin_ = 0;
   bool built_ = false, stale_ = false;
 
-  std::vector<int> grain_slot_offset_, slot_owner_, slot_partner_grain_, slot_partner_node_;
-  std::vector<int> slot_pair_offset_, slot_pair_i_, slot_pair_j_;
-  std::vector<int> wall_slot_offset_, wall_slot_;
+  exec::DeviceVector<int> grain_slot_offset_, slot_owner_, slot_partner_grain_, slot_partner_node_;
+  exec::DeviceVector<int> slot_pair_offset_, slot_pair_i_, slot_pair_j_;
+  exec::DeviceVector<int> wall_slot_offset_, wall_slot_;
   struct SlotEntry {
     std::int64_t key;  // partner grain q, or grains + wall node
     int i, j;
@@ -92,7 +106,7 @@ class PdContactList {
   std::vector<SlotEntry> scratch_;  // kept between builds to avoid reallocating
   // The first kRowBuffer partners of every row, found by the counting pass of a build (kept between builds).
   static constexpr int kRowBuffer = 8;
-  std::vector<int> row_buffer_;
+  exec::DeviceVector<int> row_buffer_;
 };
 
 }  // namespace debris

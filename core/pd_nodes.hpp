@@ -7,9 +7,15 @@
 //
 // Units are SI. Forces are stored as forces on the node (newtons): the force density of eq 33 times the
 // node's volume, so the acceleration is f / mass with mass = rho V.
+//
+// Columns are exec::DeviceVector, as Particles': in offload builds each lives on the device for as long as
+// its buffer; the host copy is current only after to_host(nodes), and a host-side change reaches kernels
+// after to_device(nodes). A copy of a PdNodes copies the host columns only (to_device it before a kernel).
 #include <cstddef>
 #include <cstdint>
 #include <vector>
+
+#include "core/exec.hpp"
 
 namespace debris {
 
@@ -32,13 +38,13 @@ namespace debris {
 
 class PdNodes {
  public:
-#define DEBRIS_DECLARE_COLUMN(name) std::vector<double> name;
+#define DEBRIS_DECLARE_COLUMN(name) exec::DeviceVector<double> name;
   DEBRIS_PD_NODE_DOUBLE_FIELDS(DEBRIS_DECLARE_COLUMN)
 #undef DEBRIS_DECLARE_COLUMN
-#define DEBRIS_DECLARE_COLUMN(name) std::vector<int> name;
+#define DEBRIS_DECLARE_COLUMN(name) exec::DeviceVector<int> name;
   DEBRIS_PD_NODE_INT_FIELDS(DEBRIS_DECLARE_COLUMN)
 #undef DEBRIS_DECLARE_COLUMN
-#define DEBRIS_DECLARE_COLUMN(name) std::vector<std::int64_t> name;
+#define DEBRIS_DECLARE_COLUMN(name) exec::DeviceVector<std::int64_t> name;
   DEBRIS_PD_NODE_ID_FIELDS(DEBRIS_DECLARE_COLUMN)
 #undef DEBRIS_DECLARE_COLUMN
 
@@ -70,29 +76,60 @@ class PdNodes {
     DEBRIS_PD_NODE_ID_FIELDS(DEBRIS_VISIT)
 #undef DEBRIS_VISIT
   }
+  template <class F>
+  void for_each_column(F&& f) const {
+#define DEBRIS_VISIT(name) f(#name, name);
+    DEBRIS_PD_NODE_DOUBLE_FIELDS(DEBRIS_VISIT)
+    DEBRIS_PD_NODE_INT_FIELDS(DEBRIS_VISIT)
+    DEBRIS_PD_NODE_ID_FIELDS(DEBRIS_VISIT)
+#undef DEBRIS_VISIT
+  }
 };
+
+/// Transfer points for every column (no-ops in host builds): device -> host before the host reads the
+/// nodes (output, checkpoints, checks), host -> device after it changed them.
+inline void to_host(const PdNodes& nodes) {
+  nodes.for_each_column([](const char*, const auto& column) { exec::to_host(column); });
+}
+inline void to_device(const PdNodes& nodes) {
+  nodes.for_each_column([](const char*, const auto& column) { exec::to_device(column); });
+}
 
 /// What a grain is: a deformable peridynamic particle, or a rigid wall (meshed like a grain, moved as a
 /// whole: fixed, or at a prescribed velocity; its nodes carry no bonds).
 enum class PdGrainKind : int { particle = 0, wall = 1 };
 
-/// Per-grain data. Grain g owns nodes [node_begin[g], node_end[g]).
+/// Per-grain data. Grain g owns nodes [node_begin[g], node_end[g]). Device-resident like the nodes.
 struct PdGrains {
-  std::vector<int> node_begin, node_end;
-  std::vector<int> kind;       // PdGrainKind
-  std::vector<int> material;   // index into the scenario's PdMaterial table
-  std::vector<double> volume;  // |Omega_p|: the sum of the nodal volumes
+  exec::DeviceVector<int> node_begin, node_end;
+  exec::DeviceVector<int> kind;       // PdGrainKind
+  exec::DeviceVector<int> material;   // index into the scenario's PdMaterial table
+  exec::DeviceVector<double> volume;  // |Omega_p|: the sum of the nodal volumes
   // Centre and mean velocity of the grain (volume-weighted means of its nodes), refreshed each step by a
   // per-grain reduction: the damping between grain centres of eqs 26-30 uses them.
-  std::vector<double> cx, cy, cz, cvx, cvy, cvz;
+  exec::DeviceVector<double> cx, cy, cz, cvx, cvy, cvz;
   // Prescribed wall velocity (used for kind == wall; zero = fixed wall).
-  std::vector<double> wall_vx, wall_vy, wall_vz;
+  exec::DeviceVector<double> wall_vx, wall_vy, wall_vz;
 
   std::size_t size() const { return node_begin.size(); }
   void resize(std::size_t n) {
     for (auto* v : {&node_begin, &node_end, &kind, &material}) v->resize(n);
     for (auto* v : {&volume, &cx, &cy, &cz, &cvx, &cvy, &cvz, &wall_vx, &wall_vy, &wall_vz}) v->resize(n);
   }
+  /// The grain columns (integers first, then doubles), for transfers.
+  template <class F>
+  void for_each_column(F&& f) const {
+    for (auto* v : {&node_begin, &node_end, &kind, &material}) f(*v);
+    for (auto* v : {&volume, &cx, &cy, &cz, &cvx, &cvy, &cvz, &wall_vx, &wall_vy, &wall_vz}) f(*v);
+  }
 };
+
+/// Transfer points for every grain column (no-ops in host builds).
+inline void to_host(const PdGrains& grains) {
+  grains.for_each_column([](const auto& column) { exec::to_host(column); });
+}
+inline void to_device(const PdGrains& grains) {
+  grains.for_each_column([](const auto& column) { exec::to_device(column); });
+}
 
 }  // namespace debris

@@ -19,7 +19,7 @@ namespace {
 
 // Host-side check before a kernel indexes `lps` through grains.material: every particle grain that owns
 // nodes must name a material of the table (walls own no bonds and are never looked up).
-void check_tables(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, const BondList& bonds,
+void check_tables(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                   const PdNodes& nodes) {
   if (bonds.nodes() != nodes.size())
     throw input_error("bond list", std::to_string(bonds.nodes()) + " rows",
@@ -45,7 +45,7 @@ struct BondView {
   const PdLpsConstants* lps;
 };
 
-BondView view(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, const BondList& bonds,
+BondView view(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
               const PdNodes& nodes) {
   check_tables(lps, grains, bonds, nodes);
   return BondView{static_cast<int>(nodes.size()),
@@ -59,7 +59,7 @@ BondView view(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, co
 
 }  // namespace
 
-void pd_weighted_volume_pass(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, const BondList& bonds,
+void pd_weighted_volume_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                              PdNodes& nodes) {
   const BondView b = view(lps, grains, bonds, nodes);
   const int n = b.n;
@@ -69,6 +69,7 @@ void pd_weighted_volume_pass(const std::vector<PdLpsConstants>& lps, const PdGra
   const PdLpsConstants* __restrict table = b.lps;
   const double* __restrict volume = nodes.volume.data();
   double* __restrict m = nodes.weighted_volume.data();
+  DEBRIS_RESIDENT(offset, partner, grain, material, length0, table, volume, m);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     double sum = 0.0;
@@ -328,7 +329,7 @@ DEBRIS_PD_ROW_CLONES void bond_force_rows(const RowInputs& in, int r0, int r1) {
 DEBRIS_END_DECLARE_TARGET
 
 // Everything the row kernels read; the outputs (theta, force) only from a mutable PdNodes (with_outputs).
-RowInputs row_inputs(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, const BondList& bonds,
+RowInputs row_inputs(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                      const PdNodes& nodes) {
   const BondView b = view(lps, grains, bonds, nodes);
   bonds.node_factors.resize(2 * nodes.size());
@@ -351,7 +352,7 @@ RowInputs row_inputs(const std::vector<PdLpsConstants>& lps, const PdGrains& gra
   return in;
 }
 
-RowInputs row_inputs_with_outputs(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, const BondList& bonds,
+RowInputs row_inputs_with_outputs(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                                   PdNodes& nodes) {
   RowInputs in = row_inputs(lps, grains, bonds, nodes);
   in.theta = nodes.theta.data();
@@ -380,6 +381,7 @@ RowInputs row_inputs_with_outputs(const std::vector<PdLpsConstants>& lps, const 
 
 long run_break_and_dilate(const RowInputs& host) {
   DEBRIS_PD_ROW_LOCALS(host);
+  DEBRIS_RESIDENT(offset, partner, grain, material, length0, x, y, z, volume, m, lps, broken, theta, factors);
   long marked = 0;
   DEBRIS_KERNEL_SUM(marked)
   for (int b = 0; b < blocks; ++b) {
@@ -391,6 +393,7 @@ long run_break_and_dilate(const RowInputs& host) {
 
 void run_bond_force(const RowInputs& host) {
   DEBRIS_PD_ROW_LOCALS(host);
+  DEBRIS_RESIDENT(offset, partner, grain, material, length0, x, y, z, volume, lps, broken, factors, fx, fy, fz);
   DEBRIS_KERNEL
   for (int b = 0; b < blocks; ++b) {
     const RowInputs in = DEBRIS_PD_ROW_INPUTS;
@@ -403,7 +406,7 @@ void run_bond_force(const RowInputs& host) {
 
 }  // namespace
 
-long pd_break_bonds_pass(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, BondList& bonds,
+long pd_break_bonds_pass(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds,
                          const PdNodes& nodes) {
   RowInputs in = row_inputs(lps, grains, bonds, nodes);
   in.broken = bonds.broken.data();
@@ -411,7 +414,7 @@ long pd_break_bonds_pass(const std::vector<PdLpsConstants>& lps, const PdGrains&
   return run_break_and_dilate(in) / 2;  // both ends broke: one bond, two entries
 }
 
-void pd_dilatation_pass(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, const BondList& bonds,
+void pd_dilatation_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                         PdNodes& nodes) {
   RowInputs in = row_inputs_with_outputs(lps, grains, bonds, nodes);
   in.broken = const_cast<unsigned char*>(bonds.broken.data());  // read only: do_break = 0
@@ -419,7 +422,7 @@ void pd_dilatation_pass(const std::vector<PdLpsConstants>& lps, const PdGrains& 
   run_break_and_dilate(in);
 }
 
-void pd_bond_force_pass(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, const BondList& bonds,
+void pd_bond_force_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                         PdNodes& nodes) {
   RowInputs in = row_inputs_with_outputs(lps, grains, bonds, nodes);
   in.broken = const_cast<unsigned char*>(bonds.broken.data());  // read only
@@ -430,6 +433,7 @@ void pd_bond_force_pass(const std::vector<PdLpsConstants>& lps, const PdGrains& 
   const PdLpsConstants* __restrict table = in.lps;
   const double* __restrict theta = in.theta, * __restrict m = in.m;
   double* __restrict factors = in.factors;
+  DEBRIS_RESIDENT(offset, grain, material, table, theta, m, factors);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     const LpsNodeFactors f =
@@ -440,7 +444,7 @@ void pd_bond_force_pass(const std::vector<PdLpsConstants>& lps, const PdGrains& 
   run_bond_force(in);
 }
 
-long pd_bond_step(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, BondList& bonds, PdNodes& nodes) {
+long pd_bond_step(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds, PdNodes& nodes) {
   // Break, dilatation and node factors in one pass over the bonds (row i breaks its own entries before it
   // sums them, which is what the separate passes do), then the force.
   RowInputs in = row_inputs_with_outputs(lps, grains, bonds, nodes);
@@ -451,7 +455,7 @@ long pd_bond_step(const std::vector<PdLpsConstants>& lps, const PdGrains& grains
   return broke;
 }
 
-void pd_damage_pass(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, const BondList& bonds,
+void pd_damage_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                     PdNodes& nodes, double* broken_fraction) {
   const BondView b = view(lps, grains, bonds, nodes);
   const int n = b.n;
@@ -463,6 +467,7 @@ void pd_damage_pass(const std::vector<PdLpsConstants>& lps, const PdGrains& grai
   const double* __restrict x = nodes.x.data(), * __restrict y = nodes.y.data(), * __restrict z = nodes.z.data();
   double* __restrict damage = nodes.damage.data();
   double* __restrict fraction = broken_fraction;
+  DEBRIS_RESIDENT(offset, partner, grain, material, length0, table, broken, x, y, z, damage, fraction);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     double z_max = 0.0;
@@ -511,7 +516,7 @@ DEBRIS_END_DECLARE_TARGET
 
 }  // namespace
 
-void pd_energy_density_pass(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, const BondList& bonds,
+void pd_energy_density_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                             const PdNodes& nodes, double* energy_density) {
   const BondView b = view(lps, grains, bonds, nodes);
   const int n = b.n;
@@ -522,6 +527,7 @@ void pd_energy_density_pass(const std::vector<PdLpsConstants>& lps, const PdGrai
   const double *x = nodes.x.data(), *y = nodes.y.data(), *z = nodes.z.data();
   const double *volume = nodes.volume.data(), *m = nodes.weighted_volume.data(), *theta = nodes.theta.data();
   double* __restrict out = energy_density;
+  DEBRIS_RESIDENT(offset, partner, grain, material, length0, table, broken, x, y, z, volume, m, theta, out);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     out[i] = offset[i] == offset[i + 1] ? 0.0
@@ -530,7 +536,7 @@ void pd_energy_density_pass(const std::vector<PdLpsConstants>& lps, const PdGrai
   }
 }
 
-double pd_elastic_energy(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, const BondList& bonds,
+double pd_elastic_energy(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                          const PdNodes& nodes) {
   const BondView b = view(lps, grains, bonds, nodes);
   const int n = b.n;
@@ -544,6 +550,7 @@ double pd_elastic_energy(const std::vector<PdLpsConstants>& lps, const PdGrains&
   const int blocks = sum_blocks(n);
   BlockPartials partials;
   double* part = partials.reserve(static_cast<std::size_t>(blocks));
+  DEBRIS_RESIDENT(offset, partner, grain, material, length0, table, broken, x, y, z, volume, m, theta, part);
   DEBRIS_KERNEL
   for (int b = 0; b < blocks; ++b) {
     double energy = 0.0;

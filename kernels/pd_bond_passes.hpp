@@ -23,9 +23,11 @@
 // index into `lps` (PdLpsConstants::from of the scenario's material table). Wall nodes have no bonds and
 // get m = theta = 0, no force and no damage.
 //
-// Offload builds: like the node columns, the bond list arrays (node_factors included, sized 2 n), grains.material
-// and the `lps` table must be resident on the device (exec::device_enter) before these passes run, and
-// `broken` copied back (exec::update_host) when the contact list is rebuilt after a step that broke bonds.
+// Offload builds: the passes read and write the device copies only. The node and grain columns, the bond
+// list (node_factors is sized here, entered by its allocator) and the `lps` table are device-resident
+// (exec::DeviceVector) and must be current there (to_device after a host-side change); `broken`, theta,
+// damage and the forces are current on the host after to_host. Output pointers (broken_fraction,
+// energy_density) must point into device-resident arrays too.
 #include <vector>
 
 #include "kernels/pd_material.hpp"
@@ -38,25 +40,25 @@ class BondList;
 
 /// m_i of eq 34 over all bonds of i (broken or not: m is a property of the reference configuration).
 /// Throws InputError if a particle grain's material index is outside `lps`.
-void pd_weighted_volume_pass(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, const BondList& bonds,
+void pd_weighted_volume_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                              PdNodes& nodes);
 
 /// Eq 11: marks as broken, for ever, every intact bond whose current stretch is >= s_0. Both ends of a bond
 /// compute bitwise the same stretch, so they always agree. Returns the number of bonds (not entries) that
 /// broke in this call: the runner rebuilds the contact list when it is > 0 (broken bonds contact).
-long pd_break_bonds_pass(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, BondList& bonds,
+long pd_break_bonds_pass(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds,
                          const PdNodes& nodes);
 
 /// theta_i of eqs 13/34 from the current positions over the intact bonds (h = 0 for broken ones).
-void pd_dilatation_pass(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, const BondList& bonds,
+void pd_dilatation_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                         PdNodes& nodes);
 
 /// Adds V_i F_i (eq 33 over the intact bonds) to the node force. Needs theta of every node (this step).
-void pd_bond_force_pass(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, const BondList& bonds,
+void pd_bond_force_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                         PdNodes& nodes);
 
 /// Breaks bonds, then computes theta and adds the bond forces. Returns the bonds broken in this step.
-long pd_bond_step(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, BondList& bonds, PdNodes& nodes);
+long pd_bond_step(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds, PdNodes& nodes);
 
 /// Damage Z_i (eq 14) into nodes.damage: the largest |s| / s_0 over all bonds of i, broken or not.
 /// Eq 14 writes |u_j - u_i| / |x_j - x_i|, which a rigid rotation makes nonzero (a grain turned by 90 degrees
@@ -64,17 +66,17 @@ long pd_bond_step(const std::vector<PdLpsConstants>& lps, const PdGrains& grains
 /// measures |stretch| / s_0 instead, which is what the paper's damage plots show, and so do we.
 /// Optionally, `broken_fraction` (size nodes.size(), or null) receives the fraction of i's bonds that are
 /// broken (0 for nodes without bonds): the usual peridynamic damage, a second diagnostic.
-void pd_damage_pass(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, const BondList& bonds,
+void pd_damage_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                     PdNodes& nodes, double* broken_fraction = nullptr);
 
 /// LPS energy density W_i (header of pd_material.hpp) of every node into `energy_density` (size nodes.size()),
 /// from the current positions and the theta column (run pd_dilatation_pass first).
-void pd_energy_density_pass(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, const BondList& bonds,
+void pd_energy_density_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                             const PdNodes& nodes, double* energy_density);
 
 /// Elastic energy of the grains, sum_i V_i W_i (J; J/m in 2D), from the theta column (run
 /// pd_dilatation_pass first). Its gradient is minus the force of pd_bond_force_pass for fixed bond states.
-double pd_elastic_energy(const std::vector<PdLpsConstants>& lps, const PdGrains& grains, const BondList& bonds,
+double pd_elastic_energy(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                          const PdNodes& nodes);
 
 }  // namespace debris

@@ -1,5 +1,6 @@
 #include "kernels/pd_contact.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 #include "core/block_sums.hpp"
@@ -36,6 +37,7 @@ void pd_grain_centres(const PdNodes& nodes, PdGrains& grains, PdContactWork& wor
   double* __restrict cx = grains.cx.data(), *__restrict cy = grains.cy.data(), *__restrict cz = grains.cz.data();
   double* __restrict cvx = grains.cvx.data(), *__restrict cvy = grains.cvy.data(), *__restrict cvz = grains.cvz.data();
   double* __restrict g_vol = work.grain_volume.data(), *__restrict g_mass = work.grain_mass.data();
+  DEBRIS_RESIDENT(begin, end, x, y, z, vx, vy, vz, volume, mass, cx, cy, cz, cvx, cvy, cvz, g_vol, g_mass);
   DEBRIS_KERNEL
   for (int g = 0; g < ng; ++g) {
     double v = 0.0, m = 0.0;
@@ -78,6 +80,7 @@ void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& no
 
   // Node pairs: eqs 16-20, and eqs 21-25 with node damping. Each pair is evaluated from both ends with
   // the same operations on negated differences, so the two ends get exactly opposite forces.
+  DEBRIS_RESIDENT(offset, index, x, y, z, vx, vy, vz, volume, mass, fx, fy, fz, grain, material, kind, pairs);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     const int count = offset[i + 1] - offset[i];
@@ -129,6 +132,7 @@ void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& no
     double* __restrict ncx = work.node_cx.data(), *__restrict ncy = work.node_cy.data();
     double* __restrict ncz = work.node_cz.data(), *__restrict ncvx = work.node_cvx.data();
     double* __restrict ncvy = work.node_cvy.data(), *__restrict ncvz = work.node_cvz.data();
+    DEBRIS_RESIDENT(centre, x, y, z, vx, vy, vz, ncx, ncy, ncz, ncvx, ncvy, ncvz);
     DEBRIS_KERNEL
     for (int p = 0; p < ng; ++p) {
       const int c = centre[p];
@@ -153,6 +157,7 @@ void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& no
   // Which slots are in contact (dist(Omega_p, Omega_p') < R_c, or the onset factor times it).
   work.slot_touching.resize(static_cast<std::size_t>(ns));
   int* __restrict touching = work.slot_touching.data();
+  DEBRIS_RESIDENT(owner, partner, pair_offset, pair_i, pair_j, material, pairs, x, y, z, touching);
   DEBRIS_KERNEL
   for (int s = 0; s < ns; ++s) {
     const int p = owner[s], q = partner[s];
@@ -174,6 +179,8 @@ void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& no
   // m_eq = m_p; that damps a grain resting on k wall nodes k/sqrt(2) times harder than a grain hitting a
   // very heavy grain.)
   const int* __restrict grain_slot = list.grain_slot_offset().data();
+  DEBRIS_RESIDENT(owner, partner, partner_node, touching, material, pairs, cx, cy, cz, cvx, cvy, cvz, x, y, z, vx, vy,
+                  vz, grain_slot, g_mass, sfx, sfy, sfz);
   DEBRIS_KERNEL
   for (int s = 0; s < ns; ++s) {
     const int p = owner[s], q = partner[s], jn = partner_node[s];
@@ -199,6 +206,7 @@ void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& no
 
   double* __restrict gfx = work.grain_fx.data(), *__restrict gfy = work.grain_fy.data();
   double* __restrict gfz = work.grain_fz.data();
+  DEBRIS_RESIDENT(grain_slot, sfx, sfy, sfz, gfx, gfy, gfz);
   DEBRIS_KERNEL
   for (int p = 0; p < ng; ++p) {
     Vec3 g{};
@@ -210,6 +218,7 @@ void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& no
 
   // Eq 30: every node of p gets V_i / |Omega_p| of the grain force; a wall node the opposite of its slots.
   const int* __restrict wall_offset = list.wall_slot_offset().data(), *__restrict wall_slot = list.wall_slot().data();
+  DEBRIS_RESIDENT(grain, kind, wall_offset, wall_slot, sfx, sfy, sfz, volume, g_vol, gfx, gfy, gfz, fx, fy, fz);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     const int gi = grain[i];
@@ -228,19 +237,20 @@ void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& no
   }
 }
 
-void pd_wall_reactions(const PdNodes& nodes, const PdGrains& grains, std::vector<Vec3>& reaction) {
+void pd_wall_reactions(const PdNodes& nodes, const PdGrains& grains, exec::DeviceVector<Vec3>& reaction) {
   const int ng = static_cast<int>(grains.size());
-  reaction.assign(static_cast<std::size_t>(ng), Vec3{});
+  reaction.resize(static_cast<std::size_t>(ng));
   const int* __restrict begin = grains.node_begin.data(), *__restrict end = grains.node_end.data();
   const int* __restrict kind = grains.kind.data();
   const double* __restrict fx = nodes.fx.data(), *__restrict fy = nodes.fy.data(), *__restrict fz = nodes.fz.data();
   Vec3* __restrict out = reaction.data();
   const int wall = static_cast<int>(PdGrainKind::wall);
+  DEBRIS_RESIDENT(begin, end, kind, fx, fy, fz, out);
   DEBRIS_KERNEL
   for (int g = 0; g < ng; ++g) {
-    if (kind[g] != wall) continue;
     Vec3 r{};
-    for (int i = begin[g]; i < end[g]; ++i) r += Vec3{fx[i], fy[i], fz[i]};
+    if (kind[g] == wall)
+      for (int i = begin[g]; i < end[g]; ++i) r += Vec3{fx[i], fy[i], fz[i]};
     out[g] = r;
   }
 }
@@ -261,6 +271,7 @@ double pd_contact_elastic_energy(const PdContactTable& table, const PdNodes& nod
   const int blocks = sum_blocks(n);
   BlockPartials partials;
   double* part = partials.reserve(static_cast<std::size_t>(blocks));
+  DEBRIS_RESIDENT(offset, index, x, y, z, volume, grain, material, pairs, part);
   DEBRIS_KERNEL
   for (int b = 0; b < blocks; ++b) {
     double energy = 0.0;
@@ -277,6 +288,32 @@ double pd_contact_elastic_energy(const PdContactTable& table, const PdNodes& nod
   }
   partials.to_host(static_cast<std::size_t>(blocks));
   return partials.add_up<1>(blocks)[0];
+}
+
+long pd_touching_pairs(const PdContactTable& table, const PdNodes& nodes, const PdGrains& grains,
+                       const PdContactList& list) {
+  check_sizes(table, nodes, grains, list);
+  const int n = list.rows();
+  const int* offset = list.offset().data();
+  const int* index = list.index().data();
+  const double *x = nodes.x.data(), *y = nodes.y.data(), *z = nodes.z.data();
+  const int* grain = nodes.grain.data();
+  const int* material = grains.material.data();
+  const PdContactParams* pairs = table.pairs.data();
+  const int nm = table.materials;
+  long touching = 0;
+  DEBRIS_RESIDENT(offset, index, x, y, z, grain, material, pairs);
+  DEBRIS_KERNEL_SUM(touching)
+  for (int i = 0; i < n; ++i) {
+    for (int k = offset[i]; k < offset[i + 1]; ++k) {
+      const int j = index[k];
+      if (j <= i) continue;  // a full list holds each pair twice
+      const double rc = pairs[material[grain[i]] * nm + material[grain[j]]].r_c;
+      const double dx = x[j] - x[i], dy = y[j] - y[i], dz = z[j] - z[i];
+      touching += std::sqrt(dx * dx + dy * dy + dz * dz) < rc ? 1 : 0;
+    }
+  }
+  return touching;
 }
 
 }  // namespace debris

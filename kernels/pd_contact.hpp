@@ -25,6 +25,7 @@
 // wall nodes ahead of the centre); that is the paper's model, kept as written.
 #include <vector>
 
+#include "core/exec.hpp"
 #include "core/vec3.hpp"
 #include "kernels/pd_contact_params.hpp"
 
@@ -37,17 +38,19 @@ class PdContactList;
 /// The two dampings of section 2.3. Restitution 1 switches either off (eq 23 gives beta = 0).
 enum class PdDamping : int { node_pairs = 0, grain_centres = 1 };
 
-/// Scratch of the contact passes, sized by them (no allocation once the sizes are stable).
+/// Scratch of the contact passes, sized by them (no allocation once the sizes are stable). Device-resident
+/// in offload builds; nothing reads it across calls.
 struct PdContactWork {
-  std::vector<double> grain_volume, grain_mass;      // sums over each grain's nodes
-  std::vector<int> slot_touching;                    // 1 when the slot's grains are in contact
-  std::vector<double> slot_fx, slot_fy, slot_fz;     // damping force of each grain-pair slot on its owner
-  std::vector<double> grain_fx, grain_fy, grain_fz;  // total centre damping force on each grain
+  exec::DeviceVector<double> grain_volume, grain_mass;      // sums over each grain's nodes
+  exec::DeviceVector<int> slot_touching;                    // 1 when the slot's grains are in contact
+  exec::DeviceVector<double> slot_fx, slot_fy, slot_fz;     // damping force of each grain-pair slot on its owner
+  exec::DeviceVector<double> grain_fx, grain_fy, grain_fz;  // total centre damping force on each grain
   // Per grain, when not empty: the centre damping takes z_c, v_c of eq 26 from this node (the authors' code
   // uses the grain's centre node, BaseParticle::getXCenter / getVCenter) instead of the volume-weighted
-  // means of grains.cx .. cvz. Set by the caller; the grain centres themselves stay the means.
-  std::vector<int> centre_node;
-  std::vector<double> node_cx, node_cy, node_cz, node_cvx, node_cvy, node_cvz;  // scratch for centre_node
+  // means of grains.cx .. cvz. Set by the caller, who sends it to the device; the grain centres themselves
+  // stay the means.
+  exec::DeviceVector<int> centre_node;
+  exec::DeviceVector<double> node_cx, node_cy, node_cz, node_cvx, node_cvy, node_cvz;  // scratch for centre_node
 };
 
 /// Per-grain reduction: volume-weighted centre and mean velocity of every grain into grains.cx .. cvz, and
@@ -61,12 +64,18 @@ void pd_grain_centres(const PdNodes& nodes, PdGrains& grains, PdContactWork& wor
 void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& nodes, PdGrains& grains,
                      const PdContactList& list, PdContactWork& work, double dt);
 
-/// Total force on each wall grain (the sum over its nodes; particles get zero): the wall's reaction. Call it
-/// after the force passes: wall nodes receive contact forces only (no bonds, no gravity).
-void pd_wall_reactions(const PdNodes& nodes, const PdGrains& grains, std::vector<Vec3>& reaction);
+/// Total force on each wall grain (the sum over its nodes, in node order; particles get zero): the wall's
+/// reaction. Call it after the force passes: wall nodes receive contact forces only (no bonds, no gravity).
+/// Offload builds: written on the device (to_host(reaction) to read it).
+void pd_wall_reactions(const PdNodes& nodes, const PdGrains& grains, exec::DeviceVector<Vec3>& reaction);
 
 /// Elastic energy stored in the contact springs, sum over pairs of 1/2 K_n delta^2 V V' (diagnostics).
 double pd_contact_elastic_energy(const PdContactTable& table, const PdNodes& nodes, const PdGrains& grains,
                                  const PdContactList& list);
+
+/// Node pairs of the list closer than their contact radius R_c (each pair once; diagnostics). An integer
+/// sum: the same on any thread count or device.
+long pd_touching_pairs(const PdContactTable& table, const PdNodes& nodes, const PdGrains& grains,
+                       const PdContactList& list);
 
 }  // namespace debris

@@ -102,6 +102,7 @@ PdContactTable pd_contact_table(const std::vector<PdMaterial>& materials,
       t.pairs[static_cast<std::size_t>(b * n + a)] = p;
     }
   }
+  exec::to_device(t.pairs);  // read by the contact kernels (offload builds)
   return t;
 }
 

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "core/exec.hpp"
 #include "kernels/pd_material.hpp"
 
 namespace debris {
@@ -50,9 +51,11 @@ PdContactParams pd_contact_params(const PdMaterial& a, const PdMaterial& b, cons
                                   const std::string& key = "contact");
 
 /// Contact constants for every pair of materials, symmetric: pair(a, b) and pair(b, a) are the same bits.
+/// The pairs are device-resident in offload builds: pd_contact_table sends them (a copy of a table must be
+/// sent again, exec::to_device(copy.pairs)).
 struct PdContactTable {
   int materials = 0;
-  std::vector<PdContactParams> pairs;  // pairs[a * materials + b]
+  exec::DeviceVector<PdContactParams> pairs;  // pairs[a * materials + b]
 
   const PdContactParams& pair(int a, int b) const { return pairs[static_cast<std::size_t>(a * materials + b)]; }
   /// Largest R_c (or damping onset, when larger) over all pairs: the cutoff of the contact list.

@@ -8,6 +8,7 @@ namespace debris {
 void pd_zero_forces(PdNodes& nodes) {
   const int n = static_cast<int>(nodes.size());
   double* __restrict fx = nodes.fx.data(), *__restrict fy = nodes.fy.data(), *__restrict fz = nodes.fz.data();
+  DEBRIS_RESIDENT(fx, fy, fz);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) fx[i] = fy[i] = fz[i] = 0.0;
 }
@@ -20,6 +21,7 @@ void pd_gravity_pass(PdNodes& nodes, const PdGrains& grains, Vec3 g) {
   double* __restrict fx = nodes.fx.data(), *__restrict fy = nodes.fy.data(), *__restrict fz = nodes.fz.data();
   const double gx = g.x, gy = g.y, gz = g.z;
   const int wall = static_cast<int>(PdGrainKind::wall);
+  DEBRIS_RESIDENT(mass, grain, kind, fx, fy, fz);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     if (kind[grain[i]] == wall) continue;
@@ -37,6 +39,7 @@ void pd_weight_forces(PdNodes& nodes, const PdGrains& grains, Vec3 g) {
   double* __restrict fx = nodes.fx.data(), *__restrict fy = nodes.fy.data(), *__restrict fz = nodes.fz.data();
   const double gx = g.x, gy = g.y, gz = g.z;
   const int wall = static_cast<int>(PdGrainKind::wall);
+  DEBRIS_RESIDENT(mass, grain, kind, fx, fy, fz);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     const bool weighs = kind[grain[i]] != wall;
@@ -59,6 +62,7 @@ void pd_integrate(PdNodes& nodes, const PdGrains& grains, double dt, bool first_
                            *__restrict wvz = grains.wall_vz.data();
   const double kick = first_step ? 0.5 * dt : dt;
   const int wall = static_cast<int>(PdGrainKind::wall);
+  DEBRIS_RESIDENT(x, y, z, vx, vy, vz, fx, fy, fz, mass, grain, fixed, kind, wvx, wvy, wvz);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     const int g = grain[i];

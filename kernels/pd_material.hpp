@@ -2,6 +2,8 @@
 // PeriDEM material (paper B, Table 1 and section 2.1.1): what a user gives per material. The derived
 // constants of the state-based model (eqs 7-10, plane strain in 2D) are computed from these by functions
 // in kernels/pd_material.cpp.
+#include "core/exec.hpp"
+
 namespace debris {
 
 struct PdMaterial {
@@ -56,6 +58,10 @@ struct PdLpsConstants {
   /// Validates the material (InputError naming `prefix.key`) and derives the constants.
   static PdLpsConstants from(const PdMaterial& m, const char* prefix = "material");
 };
+
+/// The constants of every material, indexed by PdGrains::material: read by the bond kernels, so
+/// device-resident in offload builds (to_device after filling it).
+using PdLpsTable = exec::DeviceVector<PdLpsConstants>;
 
 /// Critical stretch of eq 10, s_0 = sqrt(G_c / ((3 G + (3/4)^4 (K - 5 G / 3)) epsilon)) (Zhu & Zhao, derived
 /// for 3D). The paper and the PeriDEM code use it in 2D as well, and so do we; 3 G + (3/4)^4 (K - 5G/3) =

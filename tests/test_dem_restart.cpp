@@ -7,54 +7,15 @@
 #include <unistd.h>
 
 #include <filesystem>
-#include <random>
 
 #include "core/error.hpp"
-#include "core/lattice.hpp"
 #include "scenarios/common/dem_simulation.hpp"
+#include "tests/dem_samples.hpp"
 
 namespace debris {
 namespace {
 
 namespace fs = std::filesystem;
-
-// wide: every third free particle shrunk to d = 45 (size ratio 2.3), so the neighbour search uses size
-// classes and the default skin follows the mean radius.
-DemSimulation sheared_system(PairPass pass, bool wide = false) {
-  LatticeSpec l;
-  l.kind = LatticeKind::hcp;
-  l.spacing = 100;
-  l.diameter = 100;
-  l.size_spread = 0.04;
-  l.displacement = 1.0;
-  l.cells = {5, 4, 2};
-  Lattice lat = make_lattice(l);
-  Box box(lat.box.lo(), lat.box.hi(), {true, false, true});
-  Particles p = lat.particles;
-  std::mt19937_64 rng(4);
-  std::uniform_real_distribution<double> u(-0.01, 0.01);
-  for (std::size_t i = 0; i < p.size(); ++i) p.vx[i] = u(rng), p.vy[i] = u(rng), p.wz[i] = u(rng) / 50;
-  Groups g;
-  Group top{"top", GroupMotion::force};
-  top.external_force = {20.0, -50.0, 0.0};  // a sheared, loaded wall: its rigid velocity is state too
-  Group bottom{"bottom", GroupMotion::frozen};
-  Group probe{"probe", GroupMotion::free};
-  const int gt = g.add(top), gb = g.add(bottom), gp = g.add(probe);
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (p.y[i] > box.hi().y - 90) p.group[i] = gt;
-    else if (p.y[i] < box.lo().y + 90) p.group[i] = gb;
-    else if (p.x[i] < 200) p.group[i] = gp;
-    if (wide && p.group[i] < 0 && i % 3 == 0) p.radius[i] = 22.5;
-  }
-  DemSettings s;
-  s.material = table4_material();
-  s.material.restitution = 0.9;
-  s.time_step_fraction = 0.1;
-  s.global_damping = 0.02;
-  s.skin = wide ? 0.0 : 0.5;  // small: many rebuilds on both sides of the checkpoint
-  s.pair_pass = pass;
-  return DemSimulation(box, p, g, s);
-}
 
 void expect_identical(DemSimulation& a, DemSimulation& b) {
   EXPECT_EQ(a.step_count(), b.step_count());
@@ -85,10 +46,10 @@ void expect_identical(DemSimulation& a, DemSimulation& b) {
 
 void expect_restart_bit_for_bit(PairPass pass, bool wide = false) {
   const long n = 300;
-  DemSimulation straight = sheared_system(pass, wide);
+  DemSimulation straight = test::sheared_dem_system(pass, wide);
   straight.run(2 * n);
   if (wide) EXPECT_GT(straight.neighbors().size_classes().count, 1);
-  DemSimulation first = sheared_system(pass, wide);
+  DemSimulation first = test::sheared_dem_system(pass, wide);
   first.run(n);
   // One file per test: ctest -j runs the two passes' tests in parallel processes.
   const fs::path ckpt = fs::path(::testing::TempDir()) /
@@ -123,7 +84,7 @@ TEST(DemRestart, MissingCheckpointIsAnInputError) {
 // is always complete and loads (the write goes to .tmp and is renamed only when closed).
 TEST(DemRestart, KilledWhileWritingLeavesAWholeCheckpoint) {
   const fs::path ckpt = fs::path(::testing::TempDir()) / "debris_killed.h5";
-  DemSimulation sim = sheared_system(PairPass::half);
+  DemSimulation sim = test::sheared_dem_system(PairPass::half);
   sim.write_checkpoint(ckpt.string(), "first");
   for (int attempt = 0; attempt < 5; ++attempt) {
     const pid_t child = fork();

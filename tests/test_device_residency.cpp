@@ -6,18 +6,25 @@
 //  - the residency check aborts on an array that was never entered;
 //  - a DEM run on the device equals the same run on the initial device (host fallback, shared memory, where
 //    no transfer can be missing), and so does the debris_dem executable's output (thermo rows, dump frames)
-//    through the runner's transfer points.
+//    through the runner's transfer points;
+//  - the same for PeriDEM: an impact that breaks bonds and rebuilds its contact list, run on the device and
+//    on host fallback; a checkpoint written from the device's state restarts identically; and the
+//    debris_peridem executable's thermo rows and trajectory frames (with a stage that places a wall and sets
+//    it moving) equal host fallback's.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <filesystem>
-#include <random>
 #include <string>
+#include <type_traits>
 
 #include "core/exec.hpp"
-#include "core/lattice.hpp"
+#include "core/io/hdf5_file.hpp"
 #include "scenarios/common/dem_simulation.hpp"
+#include "scenarios/common/peridem_input.hpp"
+#include "scenarios/common/peridem_simulation.hpp"
 #include "tests/cli_helpers.hpp"
+#include "tests/dem_samples.hpp"
 
 namespace debris {
 namespace {
@@ -77,41 +84,6 @@ TEST(DeviceResidencyDeathTest, KernelOnAnArrayNeverEnteredAborts) {
   DEBRIS_RESIDENT(b);  // entered by its allocator: no abort
 }
 
-// A sheared, loaded HCP block with a frozen base, a rigid top under a load and a free probe group: rebuilds,
-// re-sorts, history carry-over, group sums and global damping all take part.
-DemSimulation sheared_block() {
-  LatticeSpec l;
-  l.kind = LatticeKind::hcp;
-  l.spacing = 100;
-  l.diameter = 100;
-  l.size_spread = 0.04;
-  l.displacement = 1.0;
-  l.cells = {5, 4, 2};
-  Lattice lat = make_lattice(l);
-  Box box(lat.box.lo(), lat.box.hi(), {true, false, true});
-  Particles p = lat.particles;
-  std::mt19937_64 rng(7);
-  std::uniform_real_distribution<double> u(-0.01, 0.01);
-  for (std::size_t i = 0; i < p.size(); ++i) p.vx[i] = u(rng), p.vy[i] = u(rng), p.wz[i] = u(rng) / 50;
-  Groups g;
-  Group top{"top", GroupMotion::force};
-  top.external_force = {20.0, -50.0, 0.0};
-  const int gt = g.add(top), gb = g.add(Group{"bottom", GroupMotion::frozen}),
-            gp = g.add(Group{"probe", GroupMotion::free});
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (p.y[i] > box.hi().y - 90) p.group[i] = gt;
-    else if (p.y[i] < box.lo().y + 90) p.group[i] = gb;
-    else if (p.x[i] < 200) p.group[i] = gp;
-  }
-  DemSettings s;
-  s.material = table4_material();
-  s.material.restitution = 0.9;
-  s.time_step_fraction = 0.1;
-  s.global_damping = 0.02;
-  s.skin = 0.5;  // small: many rebuilds
-  return DemSimulation(box, p, g, s);
-}
-
 struct DemResult {
   Particles p;
   exec::DeviceVector<double> hx, hy, hz;
@@ -121,7 +93,7 @@ struct DemResult {
 };
 
 DemResult run_dem_model(long steps) {
-  DemSimulation sim = sheared_block();
+  DemSimulation sim = test::sheared_dem_system();
   sim.run(steps);
   DemResult r;
   r.diag = sim.diagnostics();
@@ -222,6 +194,205 @@ output:
   }
   // Restarts from checkpoints written from the device's state: DemCliRestart and DemRestart, which the
   // hostdevice stage of .ci/run also runs.
+}
+
+
+// ---- PeriDEM ----
+
+// A fast impact that cracks both grains within a few hundred steps (tests/test_peridem_restart.cpp's, with
+// grain-centre damping): a disc of R = 1 mm on a wall hit at 10 m/s by a disc of R = 1.5 mm. `extra`: more
+// top-level keys (stages, output).
+std::string pd_impact_yaml(const std::string& extra = "") {
+  return R"(dimension: 2
+materials:
+  M1: {density: 1200 kg/m^3, bulk_modulus: 0.0216 GPa, shear_modulus: 0.01296 GPa, fracture_energy: 50 J/m^2, horizon: 0.6 mm}
+shapes:
+  small: {type: circle, radius: 1 mm, mesh_size: 0.3 mm}
+  large: {type: circle, radius: 1.5 mm, mesh_size: 0.3 mm}
+  floor: {type: rectangle, lo: [-3 mm, -0.6 mm, 0], hi: [3 mm, 0, 0], mesh_size: 0.3 mm}
+  lid: {type: rectangle, lo: [-3 mm, 9 mm, 0], hi: [3 mm, 9.6 mm, 0], mesh_size: 0.3 mm}
+grains:
+  - {name: bottom, shape: small, material: M1, centre: [0, 1.18 mm, 0]}
+  - {name: top, shape: large, material: M1, centre: [0.1 mm, 3.86 mm, 0], rotation: 0.3, velocity: [0, -10 m/s, 0]}
+walls:
+  - {name: floor, shape: floor, material: M1}
+  - {name: lid, shape: lid, material: M1}
+contact: {restitution: 0.9, friction: 0.3, damping: grain_centres}
+gravity: [0, -10 m/s^2, 0]
+)" + extra;
+}
+
+PeridemSimulation pd_impact(const fs::path& dir) {
+  PeridemInputOptions o;
+  o.output_directory = dir.string();
+  PeridemRunConfig cfg =
+      read_peridem_input_text(pd_impact_yaml("run: {time_step: 0.1 us, steps: 1000, skin: 0.05 mm}\n"), "impact.yaml",
+                              "", o);
+  PeridemSimulation sim(std::move(cfg.nodes), std::move(cfg.grains), cfg.materials, cfg.contact, cfg.settings);
+  sim.set_grain_names(cfg.grain_names);
+  return sim;
+}
+
+// Every column of two node stores (same storage order), the bonds' broken flags, the grain centres and the
+// contact list's rows.
+void expect_same_pd_state(const PeridemSimulation& a, const PeridemSimulation& b) {
+  EXPECT_EQ(a.step_count(), b.step_count());
+  EXPECT_EQ(a.time(), b.time());
+  EXPECT_EQ(a.broken_bonds(), b.broken_bonds());
+  EXPECT_EQ(a.contact_rebuilds(), b.contact_rebuilds());
+  const PdNodes& na = a.nodes();
+  const PdNodes& nb = b.nodes();
+  ASSERT_EQ(na.size(), nb.size());
+  na.for_each_column([&](const char* name, const auto& col) {
+    nb.for_each_column([&](const char* other, const auto& col_b) {
+      if (std::string(name) != other) return;
+      if constexpr (std::is_same_v<std::decay_t<decltype(col)>, std::decay_t<decltype(col_b)>>) {
+        for (std::size_t i = 0; i < col.size(); ++i) ASSERT_EQ(col[i], col_b[i]) << name << "[" << i << "]";
+      }
+    });
+  });
+  EXPECT_EQ(a.bonds().broken, b.bonds().broken);
+  EXPECT_EQ(a.grains().cx, b.grains().cx);
+  EXPECT_EQ(a.grains().cvy, b.grains().cvy);
+  EXPECT_EQ(a.contacts().offset(), b.contacts().offset());
+  EXPECT_EQ(a.contacts().index(), b.contacts().index());
+  EXPECT_EQ(a.contacts().slot_pair_i(), b.contacts().slot_pair_i());
+  EXPECT_EQ(a.contacts().x_at_build(), b.contacts().x_at_build());
+}
+
+struct PdResult {
+  PdNodes nodes;
+  exec::DeviceVector<unsigned char> broken;
+  exec::DeviceVector<double> cx, cvy;
+  exec::DeviceVector<int> index;
+  std::vector<Vec3> reactions;
+  PeridemDiagnostics diag;
+  long broken_bonds = 0, rebuilds = 0;
+};
+
+PdResult run_pd_model(long steps, const fs::path& dir) {
+  PeridemSimulation sim = pd_impact(dir);
+  sim.run(steps);
+  PdResult r;
+  r.diag = sim.diagnostics();
+  r.reactions = sim.wall_reactions();
+  r.nodes = sim.nodes();
+  r.broken = sim.bonds().broken;
+  r.cx = sim.grains().cx;
+  r.cvy = sim.grains().cvy;
+  r.index = sim.contacts().index();
+  r.broken_bonds = sim.broken_bonds();
+  r.rebuilds = sim.contact_rebuilds();
+  return r;
+}
+
+TEST(DeviceResidency, PeridemRunOnTheDeviceEqualsHostFallback) {
+  if (!separate_memory_build()) GTEST_SKIP() << "needs a device with its own memory";
+  const fs::path dir = test::fresh_directory("debris_device_peridem_run");
+  const long steps = 600;
+  exec::reset_transfer_stats();
+  const PdResult dev = run_pd_model(steps, dir);
+  const exec::TransferStats t = exec::transfer_stats();
+  const PdResult host = on_initial_device([&] { return run_pd_model(steps, dir); });
+  ASSERT_GT(dev.broken_bonds, 0) << "the run must break bonds (self-contact added in place) to test it";
+  ASSERT_GT(dev.rebuilds, 2) << "the run needs contact list rebuilds to test them";
+  EXPECT_EQ(dev.broken_bonds, host.broken_bonds);
+  EXPECT_EQ(dev.rebuilds, host.rebuilds);
+  ASSERT_EQ(dev.nodes.size(), host.nodes.size());
+  dev.nodes.for_each_column([&](const char* name, const auto& col) {
+    host.nodes.for_each_column([&](const char* other, const auto& col_h) {
+      if (std::string(name) != other) return;
+      if constexpr (std::is_same_v<std::decay_t<decltype(col)>, std::decay_t<decltype(col_h)>>) {
+        for (std::size_t i = 0; i < col.size(); ++i) ASSERT_EQ(col[i], col_h[i]) << name << "[" << i << "]";
+      }
+    });
+  });
+  EXPECT_EQ(dev.broken, host.broken);
+  EXPECT_EQ(dev.cx, host.cx);
+  EXPECT_EQ(dev.cvy, host.cvy);
+  EXPECT_EQ(dev.index, host.index);
+  ASSERT_EQ(dev.reactions.size(), host.reactions.size());
+  for (std::size_t g = 0; g < dev.reactions.size(); ++g) {
+    EXPECT_EQ(dev.reactions[g].x, host.reactions[g].x) << "grain " << g;
+    EXPECT_EQ(dev.reactions[g].y, host.reactions[g].y) << "grain " << g;
+  }
+  // Fixed-order block sums: the same bits on the device.
+  EXPECT_EQ(dev.diag.kinetic_energy, host.diag.kinetic_energy);
+  EXPECT_EQ(dev.diag.bond_energy, host.diag.bond_energy);
+  EXPECT_EQ(dev.diag.contact_energy, host.diag.contact_energy);
+  EXPECT_EQ(dev.diag.max_damage, host.diag.max_damage);
+  EXPECT_EQ(dev.diag.contact_pairs, host.diag.contact_pairs);
+  EXPECT_GT(dev.diag.contact_pairs, 0);
+  std::printf("PeriDEM %zu nodes, %ld steps, %ld rebuilds, %ld bonds broken: %ld transfers to the device (%.0f "
+              "bytes), %ld to the host (%.0f bytes)\n",
+              dev.nodes.size(), steps, dev.rebuilds, dev.broken_bonds, t.to_device_calls, t.to_device_bytes,
+              t.to_host_calls, t.to_host_bytes);
+}
+
+// The checkpoint is written from the device's state (nothing read it on the host before), and the run
+// restored from it on the device goes on as the run in one piece, bit for bit.
+TEST(DeviceResidency, PeridemCheckpointFromTheDeviceRestartsIdentically) {
+  if (!separate_memory_build()) GTEST_SKIP() << "needs a device with its own memory";
+  const fs::path dir = test::fresh_directory("debris_device_peridem_restart");
+  const long n = 500;
+  PeridemSimulation straight = pd_impact(dir);
+  straight.run(2 * n);
+  PeridemSimulation first = pd_impact(dir);
+  first.run(n);
+  const fs::path ckpt = dir / "checkpoint.h5";
+  first.write_checkpoint(ckpt.string(), "run: {steps: 1000}\n");
+  ASSERT_GT(first.broken_bonds(), 0) << "the test needs bonds broken before the checkpoint";
+  PeridemSimulation resumed = PeridemSimulation::from_checkpoint(ckpt.string());
+  resumed.run(n);
+  ASSERT_GT(straight.contact_rebuilds(), first.contact_rebuilds()) << "the test needs rebuilds after the checkpoint";
+  expect_same_pd_state(straight, resumed);
+}
+
+// The executable: thermo rows (energies, wall forces, per-grain centres, damage, broken bonds) and trajectory
+// frames come from the device's state through the runner's transfer points, and a stage places the lid and
+// sets it moving (host-side edits sent back to the device). The same input on the initial device must give
+// the same rows and frames.
+TEST(DeviceResidency, PeridemExecutableOutputEqualsHostFallback) {
+  if (!separate_memory_build()) GTEST_SKIP() << "needs a device with its own memory";
+  const fs::path d = test::fresh_directory("debris_device_peridem_cli");
+  auto input = [&](const std::string& out) {
+    return test::write_text_file(d, out + ".yaml", pd_impact_yaml(R"(stages:
+  - {name: fall, duration: 20 us}
+  - name: press
+    duration: 20 us
+    walls:
+      - {name: lid, place: {y_min: 5.8 mm}, velocity: [0, -5 m/s, 0]}
+run: {time_step: 0.1 us, skin: 0.05 mm}
+output:
+  directory: )" + (d / out).string() + R"(
+  thermo_every: 50
+  trajectory_every: 100
+)"));
+  };
+  const std::string exe = DEBRIS_PERIDEM_EXECUTABLE;
+  const test::CommandResult dev = test::run_command(exe, "-i " + input("device"));
+  ASSERT_EQ(dev.exit_code, 0) << dev.output;
+  EXPECT_NE(dev.output.find("separate-memory device"), std::string::npos) << dev.output;
+  EXPECT_NE(dev.output.find("wall lid moved by"), std::string::npos) << dev.output;
+  const test::CommandResult host = test::run_command(
+      "OMP_DEFAULT_DEVICE=" + std::to_string(exec::initial_device()) + " " + exe, "-i " + input("host"));
+  ASSERT_EQ(host.exit_code, 0) << host.output;
+  EXPECT_EQ(host.output.find("separate-memory device"), std::string::npos) << host.output;
+  const std::string a = test::slurp(d / "device" / "thermo.csv"), b = test::slurp(d / "host" / "thermo.csv");
+  EXPECT_FALSE(a.empty());
+  EXPECT_EQ(a, b) << "thermo.csv differs between the device run and host fallback";
+  const int frames = test::count_xmf_frames(d / "device" / "trajectory.xmf");
+  EXPECT_EQ(frames, test::count_xmf_frames(d / "host" / "trajectory.xmf"));
+  EXPECT_GE(frames, 4);
+  const h5::File fd((d / "device" / "trajectory.h5").string(), h5::File::Mode::read_only);
+  const h5::File fh((d / "host" / "trajectory.h5").string(), h5::File::Mode::read_only);
+  for (int k = 0; k < frames; ++k) {
+    SCOPED_TRACE("frame " + std::to_string(k));
+    const h5::Group gd = fd.open_group("frames/" + std::to_string(k)), gh = fh.open_group("frames/" + std::to_string(k));
+    EXPECT_EQ(gd.attribute<std::int64_t>("step"), gh.attribute<std::int64_t>("step"));
+    for (const char* set : {"position", "velocity", "force", "damage", "broken_fraction"})
+      EXPECT_EQ(gd.read<double>(set).values, gh.read<double>(set).values) << set;
+  }
 }
 
 }  // namespace

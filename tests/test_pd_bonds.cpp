@@ -30,6 +30,7 @@
 #include "kernels/lps_bond_force.hpp"
 #include "kernels/pd_bond_passes.hpp"
 #include "kernels/pd_material.hpp"
+#include "tests/pd_on_device.hpp"
 
 namespace debris {
 namespace {
@@ -56,7 +57,7 @@ struct Grid {
   double h = 0, horizon = 0;
   PdNodes nodes;
   PdGrains grains;
-  std::vector<PdLpsConstants> lps;
+  PdLpsTable lps;
   BondList bonds;
   std::vector<int> index_of_id;  // storage index of node id
 
@@ -110,7 +111,7 @@ Grid make_grid(int dim, int nx, double ratio, std::uint64_t shuffle_seed = 0, Pd
   g.grains = grains_of({{0, count}}, {PdGrainKind::particle});
   g.lps = {PdLpsConstants::from(mat)};
   g.bonds = BondList::build(g.nodes, g.grains, {g.horizon});
-  pd_weighted_volume_pass(g.lps, g.grains, g.bonds, g.nodes);
+  test::pd_weighted_volume_pass(g.lps, g.grains, g.bonds, g.nodes);
   return g;
 }
 
@@ -186,13 +187,13 @@ void zero_forces(PdNodes& n) {
 /// Dilatation and force from the current positions (no breaking).
 void forces(Grid& g) {
   zero_forces(g.nodes);
-  pd_dilatation_pass(g.lps, g.grains, g.bonds, g.nodes);
-  pd_bond_force_pass(g.lps, g.grains, g.bonds, g.nodes);
+  test::pd_dilatation_pass(g.lps, g.grains, g.bonds, g.nodes);
+  test::pd_bond_force_pass(g.lps, g.grains, g.bonds, g.nodes);
 }
 
 double energy(Grid& g) {
-  pd_dilatation_pass(g.lps, g.grains, g.bonds, g.nodes);
-  return pd_elastic_energy(g.lps, g.grains, g.bonds, g.nodes);
+  test::pd_dilatation_pass(g.lps, g.grains, g.bonds, g.nodes);
+  return test::pd_elastic_energy(g.lps, g.grains, g.bonds, g.nodes);
 }
 
 /// Every stored bond has its mirror entry, with the same length and the same broken flag.
@@ -371,7 +372,7 @@ TEST(PdMaterialValidation, PassesRejectAGrainWithoutMaterial) {
   Grid g = make_grid(2, 5, 2.5);
   g.grains.material[0] = 3;
   try {
-    pd_dilatation_pass(g.lps, g.grains, g.bonds, g.nodes);
+    test::pd_dilatation_pass(g.lps, g.grains, g.bonds, g.nodes);
     FAIL() << "material index 3 of a 1-entry table accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("'grain 0 material' = 3"), std::string::npos) << e.what();
@@ -400,7 +401,7 @@ void check_pure_dilatation(int dim) {
     Mat3 H;
     for (int a = 0; a < dim; ++a) H.a[a][a] = alpha;
     deform_homogeneous(g, H);
-    pd_dilatation_pass(g.lps, g.grains, g.bonds, g.nodes);
+    test::pd_dilatation_pass(g.lps, g.grains, g.bonds, g.nodes);
     for (int i = 0; i < g.size(); ++i) EXPECT_NEAR(g.nodes.theta[i], dim * alpha, 1e-10 * std::fabs(alpha)) << i;
   }
 }
@@ -419,7 +420,7 @@ void check_second_order(int dim) {
       const double norm_h = H.frobenius();
       const double bound = dim * norm_h * norm_h / (2 * (1 - norm_h));
       deform_homogeneous(g, H);
-      pd_dilatation_pass(g.lps, g.grains, g.bonds, g.nodes);
+      test::pd_dilatation_pass(g.lps, g.grains, g.bonds, g.nodes);
       int checked = 0;
       double worst = 0;
       for (int i = 0; i < g.size(); ++i) {
@@ -495,7 +496,7 @@ void check_force_is_energy_gradient(int dim, double broken_fraction) {
   if (broken_fraction > 0) break_random_bonds(g.bonds, broken_fraction, 11);
   deform(g, [&](Vec3, std::int64_t id) { return random_displacement(id, 0.01 * g.h, dim, 3); });
   forces(g);
-  const std::vector<double> fx = g.nodes.fx, fy = g.nodes.fy, fz = g.nodes.fz;
+  const exec::DeviceVector<double> fx = g.nodes.fx, fy = g.nodes.fy, fz = g.nodes.fz;
   const int nx = g.nx;
   std::vector<int> ids{0, nx / 2, nx * (nx / 2) + nx / 2, nx * 3 + 1, nx * nx - 1};
   if (dim == 3) ids.push_back(nx * nx * (nx / 2) + nx * (nx / 2) + nx / 2);
@@ -503,7 +504,7 @@ void check_force_is_energy_gradient(int dim, double broken_fraction) {
   double worst = 0;
   for (const int id : ids) {
     const int i = g.index_of_id[static_cast<std::size_t>(id)];
-    std::vector<double>* coord[3] = {&g.nodes.x, &g.nodes.y, &g.nodes.z};
+    exec::DeviceVector<double>* coord[3] = {&g.nodes.x, &g.nodes.y, &g.nodes.z};
     const double f[3] = {fx[i], fy[i], fz[i]};
     const double f_norm = std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
     ASSERT_GT(f_norm, 0);
@@ -545,9 +546,9 @@ double continuum_energy_density(const PdMaterial& m, const Mat3& eps, int dim) {
 /// W_pd / W_continuum at an interior node (they are all equal to round-off).
 double energy_ratio(Grid& g, const Mat3& eps) {
   deform_homogeneous(g, eps);
-  pd_dilatation_pass(g.lps, g.grains, g.bonds, g.nodes);
+  test::pd_dilatation_pass(g.lps, g.grains, g.bonds, g.nodes);
   std::vector<double> w(static_cast<std::size_t>(g.size()));
-  pd_energy_density_pass(g.lps, g.grains, g.bonds, g.nodes, w.data());
+  test::pd_energy_density_pass(g.lps, g.grains, g.bonds, g.nodes, w.data());
   const double wc = continuum_energy_density(peridem_material_m1(g.dim), eps, g.dim);
   double first = NAN;
   for (int i = 0; i < g.size(); ++i) {
@@ -603,12 +604,12 @@ TEST(PdLpsBreaking, TwoNodesBreakExactlyPastCriticalStretch) {
   const PdGrains grains = grains_of({{0, 2}}, {PdGrainKind::particle});
   BondList bonds = BondList::build(nodes, grains, {mat.horizon});
   ASSERT_EQ(bonds.entries(), 2u);
-  const std::vector<PdLpsConstants> lps{c};
-  pd_weighted_volume_pass(lps, grains, bonds, nodes);
+  const PdLpsTable lps{c};
+  test::pd_weighted_volume_pass(lps, grains, bonds, nodes);
   auto pull = [&](double s) {
     nodes.x[1] = nodes.x0[1] + s * h;
     zero_forces(nodes);
-    return pd_bond_step(lps, grains, bonds, nodes);
+    return test::pd_bond_step(lps, grains, bonds, nodes);
   };
   EXPECT_EQ(pull(s0 * (1 - 1e-9)), 0);
   EXPECT_TRUE(bonds.intact(0, 1) && bonds.intact(1, 0));
@@ -633,7 +634,7 @@ TEST(PdLpsBreaking, TwoNodesBreakExactlyPastCriticalStretch) {
   // Compression never breaks (eq 11: h = 1 for every s < s_0).
   BondList fresh = BondList::build(nodes, grains, {mat.horizon});
   nodes.x[1] = nodes.x0[1] - 0.5 * h;
-  EXPECT_EQ(pd_break_bonds_pass(lps, grains, fresh, nodes), 0);
+  EXPECT_EQ(test::pd_break_bonds_pass(lps, grains, fresh, nodes), 0);
 }
 
 // Uniaxial stretch s along x of a grid: the bonds along x stretch by s, every other bond by less
@@ -646,7 +647,7 @@ TEST(PdLpsBreaking, GridBreaksExactlyTheBondsPastCriticalStretch) {
       Mat3 H;
       H.a[0][0] = s;
       deform_homogeneous(g, H);
-      return pd_break_bonds_pass(g.lps, g.grains, g.bonds, g.nodes);
+      return test::pd_break_bonds_pass(g.lps, g.grains, g.bonds, g.nodes);
     };
     EXPECT_EQ(stretch_x(s0 * (1 - 1e-9)), 0);
     EXPECT_TRUE(std::all_of(g.bonds.broken.begin(), g.bonds.broken.end(), [](unsigned char b) { return b == 0; }));
@@ -670,7 +671,7 @@ TEST(PdLpsBreaking, GridBreaksExactlyTheBondsPastCriticalStretch) {
     // Damage: Z = s / s_0 everywhere (every node has an x-aligned bond); broken fraction of an interior 2D
     // node: 6 of its 36 bonds ((+-1, 0), (+-2, 0), (+-3, 0)).
     std::vector<double> fraction(static_cast<std::size_t>(g.size()));
-    pd_damage_pass(g.lps, g.grains, g.bonds, g.nodes, fraction.data());
+    test::pd_damage_pass(g.lps, g.grains, g.bonds, g.nodes, fraction.data());
     for (int i = 0; i < g.size(); ++i) EXPECT_NEAR(g.nodes.damage[i], 1 + 1e-9, 1e-12);
     if (dim == 2) {
       const int centre = g.index_of_id[5 + 10 * 5];
@@ -686,7 +687,7 @@ TEST(PdLpsBreaking, BothEndsAgreeUnderRandomDeformation) {
   long total = 0;
   for (std::uint64_t step = 1; step <= 5; ++step) {
     deform(g, [&](Vec3, std::int64_t id) { return random_displacement(id, 0.6 * s0 * g.h * step / 5.0, 2, step); });
-    total += pd_break_bonds_pass(g.lps, g.grains, g.bonds, g.nodes);
+    total += test::pd_break_bonds_pass(g.lps, g.grains, g.bonds, g.nodes);
     expect_symmetric(g.bonds);
   }
   const long entries = std::count(g.bonds.broken.begin(), g.bonds.broken.end(), 1);
@@ -740,10 +741,10 @@ StepResult run_step(Grid& g) {
   });
   zero_forces(g.nodes);
   StepResult r;
-  r.broke = pd_bond_step(g.lps, g.grains, g.bonds, g.nodes);
+  r.broke = test::pd_bond_step(g.lps, g.grains, g.bonds, g.nodes);
   std::vector<double> fraction(static_cast<std::size_t>(g.size()));
-  pd_damage_pass(g.lps, g.grains, g.bonds, g.nodes, fraction.data());
-  r.energy = pd_elastic_energy(g.lps, g.grains, g.bonds, g.nodes);
+  test::pd_damage_pass(g.lps, g.grains, g.bonds, g.nodes, fraction.data());
+  r.energy = test::pd_elastic_energy(g.lps, g.grains, g.bonds, g.nodes);
   const std::size_t n = static_cast<std::size_t>(g.size());
   for (auto* v : {&r.theta, &r.fx, &r.fy, &r.fz, &r.damage, &r.fraction, &r.m}) v->resize(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -830,13 +831,13 @@ TEST(PdLpsWalls, GetNoBondsNoForceNoDamage) {
       for (int iy = 0; iy < 8; ++iy) nodes.add(k * 64 + ix * 8 + iy, k, ix * h + k * 9 * h, iy * h, 0, h * h);
   PdGrains grains = grains_of({{0, 64}, {64, 128}}, {PdGrainKind::particle, PdGrainKind::wall});
   grains.material[1] = -1;  // a wall needs no material
-  const std::vector<PdLpsConstants> lps{PdLpsConstants::from(peridem_material_m1(2))};
+  const PdLpsTable lps{PdLpsConstants::from(peridem_material_m1(2))};
   BondList bonds = BondList::build(nodes, grains, {0.6e-3, 0.6e-3});
-  pd_weighted_volume_pass(lps, grains, bonds, nodes);
+  test::pd_weighted_volume_pass(lps, grains, bonds, nodes);
   for (std::size_t i = 0; i < nodes.size(); ++i) nodes.x[i] = nodes.x0[i] * 1.3;  // stretch past s_0
   zero_forces(nodes);
-  EXPECT_GT(pd_bond_step(lps, grains, bonds, nodes), 0);
-  pd_damage_pass(lps, grains, bonds, nodes);
+  EXPECT_GT(test::pd_bond_step(lps, grains, bonds, nodes), 0);
+  test::pd_damage_pass(lps, grains, bonds, nodes);
   for (std::size_t i = 64; i < 128; ++i) {
     EXPECT_EQ(bonds.offset[i], bonds.offset[i + 1]);
     EXPECT_EQ(nodes.weighted_volume[i], 0.0);
@@ -845,7 +846,7 @@ TEST(PdLpsWalls, GetNoBondsNoForceNoDamage) {
     EXPECT_EQ(nodes.damage[i], 0.0);
   }
   std::vector<double> w(nodes.size(), -1.0);
-  pd_energy_density_pass(lps, grains, bonds, nodes, w.data());
+  test::pd_energy_density_pass(lps, grains, bonds, nodes, w.data());
   for (std::size_t i = 64; i < 128; ++i) EXPECT_EQ(w[i], 0.0);
 }
 

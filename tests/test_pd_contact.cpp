@@ -23,6 +23,7 @@
 #include "kernels/pd_contact_force.hpp"
 #include "kernels/pd_contact_params.hpp"
 #include "kernels/pd_integrate.hpp"
+#include "tests/pd_on_device.hpp"
 
 namespace debris {
 namespace {
@@ -163,14 +164,14 @@ struct Stepper {
   int rebuilds = 0;
 
   void forces(PdSystem& s, double dt) {
-    if (list.needs_rebuild(s.nodes)) {
-      list.build(s.nodes, s.grains, s.bonds, table.max_contact_radius(), skin);
+    if (test::needs_rebuild(list, s.nodes)) {
+      test::build_list(list, s.nodes, s.grains, s.bonds, table.max_contact_radius(), skin);
       ++rebuilds;
     }
-    pd_zero_forces(s.nodes);
+    test::pd_zero_forces(s.nodes);
     if (spring_k > 0) spring_pass(s, spring_k);
-    pd_contact_pass(table, damping, s.nodes, s.grains, list, work, dt);
-    pd_gravity_pass(s.nodes, s.grains, gravity);
+    test::pd_contact_pass(table, damping, s.nodes, s.grains, list, work, dt);
+    test::pd_gravity_pass(s.nodes, s.grains, gravity);
   }
 };
 
@@ -477,10 +478,10 @@ TEST(PdContactList, MatchesBruteForceWithSelfContactAndWalls) {
   ThreadGuard guard;
   exec::set_threads(1);
   PdContactList one;
-  one.build(s.nodes, s.grains, s.bonds, cutoff, skin);
+  test::build_list(one, s.nodes, s.grains, s.bonds, cutoff, skin);
   exec::set_threads(2);
   PdContactList two;
-  two.build(s.nodes, s.grains, s.bonds, cutoff, skin);
+  test::build_list(two, s.nodes, s.grains, s.bonds, cutoff, skin);
   EXPECT_EQ(one.offset(), two.offset());
   EXPECT_EQ(one.index(), two.index());
 
@@ -541,7 +542,7 @@ TEST(PdContactList, MatchesBruteForceWithSelfContactAndWalls) {
   flat.add_block(PdGrainKind::wall, {-2, -1.1, 0}, 12, 1, 1.0, 1.0);
   flat.add_block(PdGrainKind::wall, {-2, -2.1, 0}, 12, 1, 1.0, 1.0);
   PdContactList fl;
-  fl.build(flat.nodes, flat.grains, flat.bonds, 1.1, 0.2);
+  test::build_list(fl, flat.nodes, flat.grains, flat.bonds, 1.1, 0.2);
   Pairs fg = listed_pairs(fl);
   std::sort(fg.begin(), fg.end());
   EXPECT_EQ(fg, brute_force(flat, 1.3));
@@ -551,21 +552,21 @@ TEST(PdContactList, RebuildAfterHalfSkinDriftOrABrokenBond) {
   PdSystem s = random_system(4, 0.12);
   const double skin = 0.02;
   PdContactList l;
-  EXPECT_TRUE(l.needs_rebuild(s.nodes)) << "never built";
-  l.build(s.nodes, s.grains, s.bonds, 0.06, skin);
-  EXPECT_FALSE(l.needs_rebuild(s.nodes));
+  EXPECT_TRUE(test::needs_rebuild(l, s.nodes)) << "never built";
+  test::build_list(l, s.nodes, s.grains, s.bonds, 0.06, skin);
+  EXPECT_FALSE(test::needs_rebuild(l, s.nodes));
   s.nodes.y[17] += 0.49 * skin;
-  EXPECT_FALSE(l.needs_rebuild(s.nodes));
+  EXPECT_FALSE(test::needs_rebuild(l, s.nodes));
   s.nodes.y[17] += 0.02 * skin;
-  EXPECT_TRUE(l.needs_rebuild(s.nodes)) << "moved 0.51 skin";
+  EXPECT_TRUE(test::needs_rebuild(l, s.nodes)) << "moved 0.51 skin";
   s.nodes.y[17] -= 0.51 * skin;
-  EXPECT_FALSE(l.needs_rebuild(s.nodes));
+  EXPECT_FALSE(test::needs_rebuild(l, s.nodes));
   l.request_rebuild();  // a bond broke
-  EXPECT_TRUE(l.needs_rebuild(s.nodes));
-  l.build(s.nodes, s.grains, s.bonds, 0.06, skin);
-  EXPECT_FALSE(l.needs_rebuild(s.nodes));
-  expect_input_error([&] { l.build(s.nodes, s.grains, s.bonds, 0.0, skin); }, "pd_contact.cutoff", "0");
-  expect_input_error([&] { l.build(s.nodes, s.grains, s.bonds, 0.06, -1.0); }, "pd_contact.skin", "-1");
+  EXPECT_TRUE(test::needs_rebuild(l, s.nodes));
+  test::build_list(l, s.nodes, s.grains, s.bonds, 0.06, skin);
+  EXPECT_FALSE(test::needs_rebuild(l, s.nodes));
+  expect_input_error([&] { test::build_list(l, s.nodes, s.grains, s.bonds, 0.0, skin); }, "pd_contact.cutoff", "0");
+  expect_input_error([&] { test::build_list(l, s.nodes, s.grains, s.bonds, 0.06, -1.0); }, "pd_contact.skin", "-1");
 }
 
 // Bonds that break after a build enter the list in place: the list is then exactly the one a build at the
@@ -576,13 +577,13 @@ TEST(PdContactList, BrokenBondsAddedInPlaceEqualAFullBuild) {
   const double cutoff = 0.05, skin = 0.02;
   const PdNodes at_build = s.nodes;
   PdContactList l;
-  l.build(s.nodes, s.grains, s.bonds, cutoff, skin);
+  test::build_list(l, s.nodes, s.grains, s.bonds, cutoff, skin);
   const int slots = l.slots();
   // The nodes drift (less than skin/2), then bonds break in three waves, some of them twice over.
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-0.2 * skin, 0.2 * skin);
   for (std::size_t i = 0; i < s.nodes.size(); ++i) s.nodes.x[i] += u(rng);
-  ASSERT_FALSE(l.needs_rebuild(s.nodes));
+  ASSERT_FALSE(test::needs_rebuild(l, s.nodes));
   long added_in_all = 0;
   for (int wave = 0; wave < 3; ++wave) {
     int broken = 0;
@@ -592,18 +593,18 @@ TEST(PdContactList, BrokenBondsAddedInPlaceEqualAFullBuild) {
           break_bond(s.bonds, i, s.bonds.partner[k]);
           ++broken;
         }
-    const long added = l.add_broken_bonds(s.bonds);
+    const long added = test::add_broken_bonds(l, s.bonds);
     added_in_all += added;
-    EXPECT_EQ(l.add_broken_bonds(s.bonds), 0) << "nothing left to add";
+    EXPECT_EQ(test::add_broken_bonds(l, s.bonds), 0) << "nothing left to add";
     PdContactList fresh;
-    fresh.build(at_build, s.grains, s.bonds, cutoff, skin);
+    test::build_list(fresh, at_build, s.grains, s.bonds, cutoff, skin);
     EXPECT_EQ(l.offset(), fresh.offset()) << "wave " << wave;
     EXPECT_EQ(l.index(), fresh.index()) << "wave " << wave;
     EXPECT_EQ(l.slots(), slots) << "self-contact pairs have no slots";
     EXPECT_EQ(l.slot_pair_i(), fresh.slot_pair_i());
   }
   EXPECT_GT(added_in_all, 20) << "the test needs broken bonds within reach";
-  EXPECT_FALSE(l.needs_rebuild(s.nodes)) << "an in-place update is not a rebuild";
+  EXPECT_FALSE(test::needs_rebuild(l, s.nodes)) << "an in-place update is not a rebuild";
 }
 
 TEST(PdContact, SelfContactOnlyAcrossABrokenBond) {
@@ -618,19 +619,19 @@ TEST(PdContact, SelfContactOnlyAcrossABrokenBond) {
   ASSERT_TRUE(s.bonds.intact(0, 1));
   PdContactList l;
   PdContactWork w;
-  l.build(s.nodes, s.grains, s.bonds, t.max_contact_radius(), 0.0);
+  test::build_list(l, s.nodes, s.grains, s.bonds, t.max_contact_radius(), 0.0);
   EXPECT_EQ(l.entries(), 0);
   break_bond(s.bonds, 0, 1);
-  EXPECT_EQ(l.add_broken_bonds(s.bonds), 2);
+  EXPECT_EQ(test::add_broken_bonds(l, s.bonds), 2);
   EXPECT_EQ(l.entries(), 2);
-  pd_zero_forces(s.nodes);
-  pd_contact_pass(t, PdDamping::grain_centres, s.nodes, s.grains, l, w, 1e-7);
+  test::pd_zero_forces(s.nodes);
+  test::pd_contact_pass(t, PdDamping::grain_centres, s.nodes, s.grains, l, w, 1e-7);
   const double f = t.pair(0, 0).k_n * 0.5 * t.pair(0, 0).r_c * 1e-16;
   EXPECT_NEAR(s.nodes.fx[0], -f, 1e-13 * f);
   EXPECT_EQ(s.nodes.fx[1], -s.nodes.fx[0]);
   // The spring's energy, 1/2 K_n delta^2 V V', counted once for the pair.
   const double u = 0.5 * t.pair(0, 0).k_n * std::pow(0.5 * t.pair(0, 0).r_c, 2) * 1e-16;
-  EXPECT_NEAR(pd_contact_elastic_energy(t, s.nodes, s.grains, l), u, 1e-13 * u);
+  EXPECT_NEAR(test::pd_contact_elastic_energy(t, s.nodes, s.grains, l), u, 1e-13 * u);
 }
 
 // ---------------------------------------------------------------------------------------------------------
@@ -673,10 +674,10 @@ TEST(PdContact, ForcesAreTheSameBitsWithOneAndTwoThreads) {
       PdSystem s = crowded_system(8);
       PdContactList l;
       PdContactWork w;
-      l.build(s.nodes, s.grains, s.bonds, t.max_contact_radius(), 0.2e-3);
-      pd_zero_forces(s.nodes);
-      pd_contact_pass(t, d, s.nodes, s.grains, l, w, 1e-5);
-      f[threads - 1] = s.nodes.fx;
+      test::build_list(l, s.nodes, s.grains, s.bonds, t.max_contact_radius(), 0.2e-3);
+      test::pd_zero_forces(s.nodes);
+      test::pd_contact_pass(t, d, s.nodes, s.grains, l, w, 1e-5);
+      f[threads - 1].assign(s.nodes.fx.begin(), s.nodes.fx.end());
       f[threads - 1].insert(f[threads - 1].end(), s.nodes.fy.begin(), s.nodes.fy.end());
       if (threads == 1) {
         int nonzero = 0;
@@ -691,7 +692,7 @@ TEST(PdContact, ForcesAreTheSameBitsWithOneAndTwoThreads) {
         }
         EXPECT_LT(norm(total), 1e-14 * scale);
         std::vector<Vec3> reaction;
-        pd_wall_reactions(s.nodes, s.grains, reaction);
+        test::pd_wall_reactions(s.nodes, s.grains, reaction);
         Vec3 on_particles{};
         for (int g = 0; g < 3; ++g) on_particles += grain_force(s, g);
         EXPECT_LT(norm(reaction[3] + reaction[4] + on_particles), 1e-14 * scale);
@@ -721,11 +722,11 @@ TEST(PdContact, CentreDampingIsOneForcePerGrainPairSpreadByVolume) {
   s.set_velocity(1, {-0.2, 0.0, 0});
   const double skin = 0.1e-3;
   PdContactList l;
-  l.build(s.nodes, s.grains, s.bonds, h, skin);
+  test::build_list(l, s.nodes, s.grains, s.bonds, h, skin);
   PdContactWork w;
   auto forces = [&](const PdContactTable& t) {
-    pd_zero_forces(s.nodes);
-    pd_contact_pass(t, PdDamping::grain_centres, s.nodes, s.grains, l, w, 1e-5);
+    test::pd_zero_forces(s.nodes);
+    test::pd_contact_pass(t, PdDamping::grain_centres, s.nodes, s.grains, l, w, 1e-5);
   };
   forces(elastic);
   std::vector<Vec3> f0;
@@ -793,14 +794,14 @@ TEST(PdContact, CentreDampingAgainstAWallIsOneBodyOfInfiniteMass) {
   s.add_block(PdGrainKind::wall, {-2.2e-3, -0.8e-3, 0}, 9, 1, 0.7 * h, 3000.0);
   s.set_velocity(0, {0.1, -0.4, 0});
   PdContactList l;
-  l.build(s.nodes, s.grains, s.bonds, h, 0.0);
+  test::build_list(l, s.nodes, s.grains, s.bonds, h, 0.0);
   PdContactWork w;
   std::vector<Vec3> f0;
-  pd_zero_forces(s.nodes);
-  pd_contact_pass(elastic, PdDamping::grain_centres, s.nodes, s.grains, l, w, 1e-5);
+  test::pd_zero_forces(s.nodes);
+  test::pd_contact_pass(elastic, PdDamping::grain_centres, s.nodes, s.grains, l, w, 1e-5);
   for (std::size_t i = 0; i < s.nodes.size(); ++i) f0.push_back(s.force(static_cast<int>(i)));
-  pd_zero_forces(s.nodes);
-  pd_contact_pass(damped, PdDamping::grain_centres, s.nodes, s.grains, l, w, 1e-5);
+  test::pd_zero_forces(s.nodes);
+  test::pd_contact_pass(damped, PdDamping::grain_centres, s.nodes, s.grains, l, w, 1e-5);
 
   const double mass = grain_mass(s, 0), l_e = std::log(e_n);
   const double beta =
@@ -867,9 +868,9 @@ TEST(PdContact, MomentumIsConservedInACollisionWithEitherDamping) {
     PdContactWork w;
     for (int n = 0; n < 800; ++n) {
       st.forces(c.s, dt);
-      pd_integrate(c.s.nodes, c.s.grains, dt, n == 0);
+      test::pd_integrate(c.s.nodes, c.s.grains, dt, n == 0);
       drift = std::max(drift, norm(momentum(c.s) - p0));
-      pd_grain_centres(c.s.nodes, c.s.grains, w);
+      test::pd_grain_centres(c.s.nodes, c.s.grains, w);
       min_va = std::min(min_va, c.s.grains.cvx[c.a]);
     }
     EXPECT_LT(drift, 1e-14 * scale) << "damping " << static_cast<int>(d);
@@ -959,7 +960,7 @@ Slide slide(double mu, double v0, int steps, double dt = 1e-5) {
   }
   st.forces(s, dt);
   std::vector<Vec3> reaction;
-  pd_wall_reactions(s.nodes, s.grains, reaction);
+  test::pd_wall_reactions(s.nodes, s.grains, reaction);
   out.reaction_at_rest = reaction[1];
   st.table = pd_contact_table({soft_material(2.0)}, settings(1.0, mu), h);
   s.set_velocity(0, {v0, 0, 0});
@@ -1048,10 +1049,10 @@ TEST(PdIntegrate, FreeNodeFollowsTheParabolaFixedComponentsStayWallsMoveAtTheirV
   s.nodes.vz[1] = v0.z;
   const double dt = 1e-3;
   for (int n = 1; n <= 2000; ++n) {
-    pd_zero_forces(s.nodes);
-    pd_gravity_pass(s.nodes, s.grains, g);
+    test::pd_zero_forces(s.nodes);
+    test::pd_gravity_pass(s.nodes, s.grains, g);
     s.nodes.fx[2] = 1e6;  // a wall ignores forces
-    pd_integrate(s.nodes, s.grains, dt, n == 1);
+    test::pd_integrate(s.nodes, s.grains, dt, n == 1);
     const double t = n * dt;
     const Vec3 exact = Vec3{0.1, 0.2, 0.3} + t * v0 + (0.5 * t * t) * g;  // eq 32 is exact for constant force
     ASSERT_NEAR(s.nodes.x[0], exact.x, 1e-12 * (1 + std::fabs(exact.x))) << "step " << n;
@@ -1070,14 +1071,14 @@ TEST(PdIntegrate, FreeNodeFollowsTheParabolaFixedComponentsStayWallsMoveAtTheirV
     ASSERT_EQ(s.nodes.vx[2], 0.3);
   }
   // Gravity skips walls; zero_forces clears everything.
-  pd_zero_forces(s.nodes);
-  pd_gravity_pass(s.nodes, s.grains, g);
+  test::pd_zero_forces(s.nodes);
+  test::pd_gravity_pass(s.nodes, s.grains, g);
   EXPECT_EQ(s.nodes.fy[2], 0.0);
   EXPECT_DOUBLE_EQ(s.nodes.fy[0], s.nodes.mass[0] * g.y);
   // The fused first sweep of a step gives the same bits as the two (walls left with stale forces first).
-  const std::vector<double> fx = s.nodes.fx, fy = s.nodes.fy, fz = s.nodes.fz;
+  const exec::DeviceVector<double> fx = s.nodes.fx, fy = s.nodes.fy, fz = s.nodes.fz;
   for (std::size_t i = 0; i < s.nodes.size(); ++i) s.nodes.fx[i] = s.nodes.fy[i] = s.nodes.fz[i] = 7.0;
-  pd_weight_forces(s.nodes, s.grains, g);
+  test::pd_weight_forces(s.nodes, s.grains, g);
   EXPECT_EQ(s.nodes.fx, fx);
   EXPECT_EQ(s.nodes.fy, fy);
   EXPECT_EQ(s.nodes.fz, fz);

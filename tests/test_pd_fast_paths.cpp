@@ -18,6 +18,7 @@
 #include "kernels/lps_bond_force.hpp"
 #include "kernels/pd_bond_passes.hpp"
 #include "kernels/pd_material.hpp"
+#include "tests/pd_on_device.hpp"
 
 namespace debris {
 namespace {
@@ -25,7 +26,7 @@ namespace {
 struct System {
   PdNodes nodes;
   PdGrains grains;
-  std::vector<PdLpsConstants> lps;
+  PdLpsTable lps;
   std::vector<double> horizon;  // per grain
   BondList bonds;
 
@@ -64,7 +65,7 @@ System make_system() {
   s.add_grid(PdGrainKind::particle, 1, eps, {20 * h, 0, 0}, 7, 7, 7, h);
   s.add_grid(PdGrainKind::particle, 0, eps, {0, 20 * h, 0}, 2, 1, 1, h);
   s.bonds = BondList::build(s.nodes, s.grains, s.horizon);
-  pd_weighted_volume_pass(s.lps, s.grains, s.bonds, s.nodes);
+  test::pd_weighted_volume_pass(s.lps, s.grains, s.bonds, s.nodes);
   return s;
 }
 
@@ -106,8 +107,8 @@ const PdLpsConstants& constants(const System& s, int i) {
 TEST(PdBondPassesFast, StepEqualsThePureBondFunctionsSummedPerNode) {
   System s = make_system();
   deform(s, 7);
-  const std::vector<unsigned char> broken_before = s.bonds.broken;
-  const long broke = pd_bond_step(s.lps, s.grains, s.bonds, s.nodes);
+  const exec::DeviceVector<unsigned char> broken_before = s.bonds.broken;
+  const long broke = test::pd_bond_step(s.lps, s.grains, s.bonds, s.nodes);
   const BondList& b = s.bonds;
   const int n = static_cast<int>(s.nodes.size());
 
@@ -167,8 +168,8 @@ TEST(PdBondPassesFast, StepEqualsThePureBondFunctionsSummedPerNode) {
 }
 
 struct Snapshot {
-  std::vector<double> theta, fx, fy, fz;
-  std::vector<unsigned char> broken;
+  exec::DeviceVector<double> theta, fx, fy, fz;
+  exec::DeviceVector<unsigned char> broken;
   long broke = 0;
   bool operator==(const Snapshot&) const = default;
 };
@@ -182,13 +183,13 @@ TEST(PdBondPassesFast, FusedStepEqualsTheSeparatePassesBitForBitOnAnyThreadCount
   exec::set_threads(1);
   System fused = make_system(), separate = make_system(), two = make_system();
   for (System* s : {&fused, &separate, &two}) deform(*s, 11);
-  const Snapshot a = snapshot(fused, pd_bond_step(fused.lps, fused.grains, fused.bonds, fused.nodes));
-  const long broke = pd_break_bonds_pass(separate.lps, separate.grains, separate.bonds, separate.nodes);
-  pd_dilatation_pass(separate.lps, separate.grains, separate.bonds, separate.nodes);
-  pd_bond_force_pass(separate.lps, separate.grains, separate.bonds, separate.nodes);
+  const Snapshot a = snapshot(fused, test::pd_bond_step(fused.lps, fused.grains, fused.bonds, fused.nodes));
+  const long broke = test::pd_break_bonds_pass(separate.lps, separate.grains, separate.bonds, separate.nodes);
+  test::pd_dilatation_pass(separate.lps, separate.grains, separate.bonds, separate.nodes);
+  test::pd_bond_force_pass(separate.lps, separate.grains, separate.bonds, separate.nodes);
   const Snapshot b = snapshot(separate, broke);
   exec::set_threads(2);
-  const Snapshot c = snapshot(two, pd_bond_step(two.lps, two.grains, two.bonds, two.nodes));
+  const Snapshot c = snapshot(two, test::pd_bond_step(two.lps, two.grains, two.bonds, two.nodes));
   exec::set_threads(saved);
   EXPECT_GT(a.broke, 0);
   EXPECT_TRUE(a == b) << "pd_bond_step differs from break + dilatation + force";
@@ -231,11 +232,11 @@ TEST(PdContactListFast, LongRowsMatchBruteForceOnAnyThreadCount) {
   }
   ASSERT_GT(longest, 12u) << "rows must outgrow the build's buffer";
   const int saved = exec::threads();
-  std::vector<int> index_one;
+  exec::DeviceVector<int> index_one;
   for (const int threads : {1, 2}) {
     exec::set_threads(threads);
     PdContactList list;
-    list.build(s.nodes, s.grains, s.bonds, cutoff, skin);
+    test::build_list(list, s.nodes, s.grains, s.bonds, cutoff, skin);
     ASSERT_EQ(list.rows(), n);
     for (int i = 0; i < n; ++i) {
       std::vector<int> row(list.index().begin() + list.offset()[i], list.index().begin() + list.offset()[i + 1]);

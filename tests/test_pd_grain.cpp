@@ -46,7 +46,8 @@ std::vector<ReferenceGrain> compressive_zones() {
           make_reference_grain(read_gmsh_msh(dir + "mesh_particle_2_0.msh"), 1e-3, 0, "zone 2 mesh")};
 }
 
-double sum(const std::vector<double>& v) {
+template <class V>
+double sum(const V& v) {
   double s = 0;
   for (double x : v) s += x;
   return s;

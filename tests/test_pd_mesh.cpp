@@ -40,7 +40,8 @@ std::string read_error(const std::string& path) {
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
-double sum(const std::vector<double>& v) {
+template <class V>
+double sum(const V& v) {
   double s = 0;
   for (double x : v) s += x;
   return s;

@@ -37,7 +37,8 @@ GmshRun fresh_run(const std::string& name, int msh_version = 22) {
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
-double sum(const std::vector<double>& v) {
+template <class V>
+double sum(const V& v) {
   double s = 0;
   for (double x : v) s += x;
   return s;

@@ -14,6 +14,7 @@
 #include "kernels/pd_integrate.hpp"
 #include "scenarios/common/peridem_input.hpp"
 #include "scenarios/common/peridem_simulation.hpp"
+#include "tests/pd_on_device.hpp"
 
 namespace debris {
 namespace {
@@ -36,7 +37,7 @@ PeridemSimulation make(const std::string& yaml) {
 double exact_bond_lambda_max(const PeridemSimulation& sim, int dimension) {
   const PdNodes& ref = sim.nodes();
   const std::size_t n = ref.size();
-  std::vector<PdLpsConstants> lps;
+  PdLpsTable lps;
   for (const PdMaterial& m : sim.materials()) lps.push_back(PdLpsConstants::from(m));
   const int dofs = static_cast<int>(n) * dimension;
   Eigen::MatrixXd K(dofs, dofs);
@@ -50,9 +51,9 @@ double exact_bond_lambda_max(const PeridemSimulation& sim, int dimension) {
     }
     const std::size_t node = static_cast<std::size_t>(k / dimension);
     (k % dimension == 0 ? work.x : k % dimension == 1 ? work.y : work.z)[node] += shift;
-    pd_zero_forces(work);
-    pd_dilatation_pass(lps, sim.grains(), sim.bonds(), work);
-    pd_bond_force_pass(lps, sim.grains(), sim.bonds(), work);
+    test::pd_zero_forces(work);
+    test::pd_dilatation_pass(lps, sim.grains(), sim.bonds(), work);
+    test::pd_bond_force_pass(lps, sim.grains(), sim.bonds(), work);
     for (std::size_t i = 0; i < n; ++i) {
       const double fi[3] = {work.fx[i], work.fy[i], work.fz[i]};
       for (int c = 0; c < dimension; ++c) f[static_cast<int>(i) * dimension + c] = fi[c];

@@ -12,6 +12,8 @@
 //    recomputed (the stable step's power iteration is the slow part of a start).
 // The LPS constants and the contact table are derived from the saved materials, contact settings and h,
 // as the constructor derives them.
+// Offload builds: the writer brings the state back from the device first (state_to_host), the reader sends
+// everything it read and derived to the device before it rebuilds the contact list there.
 //
 // The file is sealed with checksums and everything read is checked before it is used
 // (scenarios/common/checkpoint_file.hpp): a damaged or foreign file is an input error naming it.
@@ -22,6 +24,7 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
+#include "core/exec.hpp"
 #include "core/io/hdf5_file.hpp"
 #include "scenarios/common/checkpoint_file.hpp"
 #include "scenarios/common/peridem_simulation.hpp"
@@ -46,6 +49,7 @@ bool all_finite(const std::vector<double>& v) {
 }  // namespace
 
 void PeridemSimulation::write_checkpoint(const std::string& path, const std::string& input_echo) const {
+  state_to_host();
   write_checkpoint_file(path, [&](const std::string& tmp) {
     h5::File f(tmp, h5::File::Mode::create);
     f.set_attribute<std::int64_t>("format_version", kFormatVersion);
@@ -85,7 +89,7 @@ void PeridemSimulation::write_checkpoint(const std::string& path, const std::str
     }
     {
       h5::Group nodes = f.create_group("nodes");
-      const_cast<PdNodes&>(nodes_).for_each_column([&](const char* name, auto& col) { nodes.write(name, col); });
+      nodes_.for_each_column([&](const char* name, const auto& col) { nodes.write(name, col); });
     }
     {
       h5::Group g = f.create_group("grains");
@@ -121,9 +125,9 @@ void PeridemSimulation::write_checkpoint(const std::string& path, const std::str
     }
     {
       h5::Group l = f.create_group("contact_list");
-      l.write("x_at_build", list_x_);
-      l.write("y_at_build", list_y_);
-      l.write("z_at_build", list_z_);
+      l.write("x_at_build", list_.x_at_build());
+      l.write("y_at_build", list_.y_at_build());
+      l.write("z_at_build", list_.z_at_build());
     }
     f.close();
   });
@@ -220,12 +224,16 @@ PeridemSimulation PeridemSimulation::restore(const h5::File& f, std::string* inp
   }
   {
     const h5::Group nodes = f.open_group("nodes");
+    // Assigned element-wise: the columns are device-resident vectors in offload builds.
     sim.nodes_.for_each_column([&](const char* name, auto& col) {
       using T = typename std::decay_t<decltype(col)>::value_type;
-      if constexpr (std::is_same_v<T, int>)
-        col = nodes.read<std::int32_t>(name).values;
-      else
-        col = nodes.read<T>(name).values;
+      if constexpr (std::is_same_v<T, int>) {
+        const auto v = nodes.read<std::int32_t>(name).values;
+        col.assign(v.begin(), v.end());
+      } else {
+        const auto v = nodes.read<T>(name).values;
+        col.assign(v.begin(), v.end());
+      }
     });
     const std::size_t n = sim.nodes_.size();
     sim.nodes_.for_each_column([&](const char* name, auto& col) {
@@ -244,10 +252,13 @@ PeridemSimulation PeridemSimulation::restore(const h5::File& f, std::string* inp
   {
     const h5::Group g = f.open_group("grains");
     PdGrains& gr = sim.grains_;
-    gr.node_begin = g.read<std::int32_t>("node_begin").values;
-    gr.node_end = g.read<std::int32_t>("node_end").values;
-    gr.kind = g.read<std::int32_t>("kind").values;
-    gr.material = g.read<std::int32_t>("material").values;
+    for (auto [name, col] : {std::pair{"node_begin", &gr.node_begin},
+                             {"node_end", &gr.node_end},
+                             {"kind", &gr.kind},
+                             {"material", &gr.material}}) {
+      const auto v = g.read<std::int32_t>(name).values;
+      col->assign(v.begin(), v.end());
+    }
     for (auto [name, col] : {std::pair{"volume", &gr.volume},
                              {"cx", &gr.cx},
                              {"cy", &gr.cy},
@@ -257,8 +268,10 @@ PeridemSimulation PeridemSimulation::restore(const h5::File& f, std::string* inp
                              {"cvz", &gr.cvz},
                              {"wall_vx", &gr.wall_vx},
                              {"wall_vy", &gr.wall_vy},
-                             {"wall_vz", &gr.wall_vz}})
-      *col = g.read<double>(name).values;
+                             {"wall_vz", &gr.wall_vz}}) {
+      const auto v = g.read<double>(name).values;
+      col->assign(v.begin(), v.end());
+    }
     sim.grain_names_ = g.read_strings("name");
     const std::size_t ng = gr.node_begin.size();
     for (const std::size_t s : {gr.node_end.size(), gr.kind.size(), gr.material.size(), gr.volume.size(), gr.cx.size(),
@@ -296,7 +309,7 @@ PeridemSimulation PeridemSimulation::restore(const h5::File& f, std::string* inp
   sim.bonds_ = BondList::build(sim.nodes_, sim.grains_, horizon);
   {
     const h5::Group b = f.open_group("bonds");
-    if (b.read<std::int32_t>("offset").values != sim.bonds_.offset ||
+    if (!(sim.bonds_.offset == b.read<std::int32_t>("offset").values) ||
         b.read_scalar<std::int64_t>("entries") != static_cast<std::int64_t>(sim.bonds_.entries()))
       throw corrupt(path, "the bonds rebuilt from the reference positions differ from the saved ones");
     const auto broken = b.read<std::int64_t>("broken_entry").values;
@@ -312,17 +325,25 @@ PeridemSimulation PeridemSimulation::restore(const h5::File& f, std::string* inp
   }
   {
     const h5::Group l = f.open_group("contact_list");
-    sim.list_x_ = l.read<double>("x_at_build").values;
-    sim.list_y_ = l.read<double>("y_at_build").values;
-    sim.list_z_ = l.read<double>("z_at_build").values;
+    const auto x = l.read<double>("x_at_build").values;
+    const auto y = l.read<double>("y_at_build").values;
+    const auto z = l.read<double>("z_at_build").values;
     const std::size_t n = sim.nodes_.size();
-    if (sim.list_x_.size() != n || sim.list_y_.size() != n || sim.list_z_.size() != n)
+    if (x.size() != n || y.size() != n || z.size() != n)
       throw corrupt(path, "contact_list positions do not match the nodes");
+    // Everything read and derived goes to the device (offload builds), then the list is rebuilt there.
+    to_device(sim.nodes_);
+    to_device(sim.grains_);
+    to_device(sim.bonds_);
+    exec::to_device(sim.lps_);
+    sim.nodes_edited_ = sim.grains_edited_ = false;
     PdNodes at_build = sim.nodes_;
-    at_build.x = sim.list_x_;
-    at_build.y = sim.list_y_;
-    at_build.z = sim.list_z_;
+    at_build.x.assign(x.begin(), x.end());
+    at_build.y.assign(y.begin(), y.end());
+    at_build.z.assign(z.begin(), z.end());
+    to_device(at_build);
     sim.list_.build(at_build, sim.grains_, sim.bonds_, sim.table_.max_contact_radius(), sim.skin_);
+    sim.device_changed(false, false, true);  // the list's build positions are on the device only
   }
   return sim;
 }

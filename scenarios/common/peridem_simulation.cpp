@@ -26,11 +26,13 @@ bool is_particle(const PdGrains& g, int k) { return g.kind[k] == static_cast<int
 // iteration with the Rayleigh quotient (from below; 200 iterations bring it within a few per cent on the
 // paper's grains, and the caller adds a margin). K u is evaluated as -f(x0 + a u) / a with an amplitude
 // a 1e-7 of the mesh size: the bond force is smooth there and f(x0) = 0.
+// Offload builds: the iterate goes to the device and the forces come back each iteration (set-up only).
 double bond_lambda_max(const PdNodes& reference, const PdGrains& grains, const BondList& bonds,
-                       const std::vector<PdLpsConstants>& lps, double h, int dimension) {
+                       const PdLpsTable& lps, double h, int dimension) {
   const std::size_t n = reference.size();
   if (bonds.entries() == 0) return 0.0;
   PdNodes work = reference;
+  to_device(work);  // a copy holds the host columns only
   std::vector<double> u(3 * n, 0.0), ku(3 * n);
   std::mt19937_64 rng(12345);
   std::uniform_real_distribution<double> uni(-1.0, 1.0);
@@ -52,9 +54,15 @@ double bond_lambda_max(const PdNodes& reference, const PdGrains& grains, const B
       work.y[i] = reference.y0[i] + a * u[3 * i + 1];
       work.z[i] = reference.z0[i] + a * u[3 * i + 2];
     }
+    exec::to_device(work.x);
+    exec::to_device(work.y);
+    exec::to_device(work.z);
     pd_zero_forces(work);
     pd_dilatation_pass(lps, grains, bonds, work);
     pd_bond_force_pass(lps, grains, bonds, work);
+    exec::to_host(work.fx);
+    exec::to_host(work.fy);
+    exec::to_host(work.fz);
     double uku = 0.0, umu = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
       if (!movable(i)) continue;
@@ -146,7 +154,13 @@ PeridemSimulation::PeridemSimulation(PdNodes nodes, PdGrains grains, std::vector
   for (std::size_t g = 0; g < grains_.size(); ++g)
     horizon[g] = materials_[static_cast<std::size_t>(grains_.material[g])].horizon;
   bonds_ = BondList::build(nodes_, grains_, horizon);
+  // Everything the kernels read goes to the device once (offload builds): nodes and grains as placed (the
+  // host copies count as edited since construction), bonds, the LPS table (the contact table sent itself).
+  state_to_device();
+  to_device(bonds_);
+  exec::to_device(lps_);
   pd_weighted_volume_pass(lps_, grains_, bonds_, nodes_);
+  exec::to_host(nodes_.weighted_volume);  // the host copy complete (the power iteration copies the nodes)
 
   // Stability of eq 32: omega_max^2 of the linearised bonds (power iteration) plus that of one contact
   // spring k = K_n V_i V_j (eq 17 linearised) between the largest nodes of two bodies that can touch:
@@ -185,7 +199,9 @@ PeridemSimulation::PeridemSimulation(PdNodes nodes, PdGrains grains, std::vector
   if (settings_.damping_centre_node) {
     // Each grain's centre node: the node nearest its volume-weighted centre now (for a PeriDEM circle mesh,
     // the embedded centre point).
+    state_to_device();
     pd_grain_centres(nodes_, grains_, work_);
+    for (const auto* c : {&grains_.cx, &grains_.cy, &grains_.cz}) exec::to_host(*c);  // computed on the device
     work_.centre_node.assign(grains_.size(), 0);
     for (std::size_t g = 0; g < grains_.size(); ++g) {
       double best = std::numeric_limits<double>::infinity();
@@ -199,6 +215,7 @@ PeridemSimulation::PeridemSimulation(PdNodes nodes, PdGrains grains, std::vector
         }
       }
     }
+    exec::to_device(work_.centre_node);
   }
   skin_ = settings_.skin > 0 ? settings_.skin : table_.max_contact_radius();
   for (std::size_t g = 0; g < grains_.size(); ++g)
@@ -212,8 +229,10 @@ PeridemSimulation::PeridemSimulation(PdNodes nodes, PdGrains grains, std::vector
 // Every particle-wall node pair within R_c is in the contact list just built (cutoff R_c + skin).
 template <class Visit>
 void PeridemSimulation::for_each_listed_pair(Visit visit) const {
-  const std::vector<int>& off = list_.offset();
-  const std::vector<int>& idx = list_.index();
+  nodes_to_host();  // the positions and the list's rows
+  pairs_to_host();
+  const auto& off = list_.offset();
+  const auto& idx = list_.index();
   for (int i = 0; i < list_.rows(); ++i)
     for (int k = off[i]; k < off[i + 1]; ++k) {
       const int j = idx[k];
@@ -239,12 +258,50 @@ void PeridemSimulation::refuse_grains_in_walls() const {
   });
 }
 
+// Only the columns the step's kernels write come back (the weighted volume, written once at set-up, came
+// back then); the others change on the host only.
+void PeridemSimulation::nodes_to_host() const {
+  if constexpr (exec::offload_build()) {
+    if (nodes_stale_)
+      for (const auto* c : {&nodes_.x, &nodes_.y, &nodes_.z, &nodes_.vx, &nodes_.vy, &nodes_.vz, &nodes_.fx, &nodes_.fy,
+                            &nodes_.fz, &nodes_.theta, &nodes_.damage})
+        exec::to_host(*c);
+    nodes_stale_ = false;
+  }
+}
+
+void PeridemSimulation::grains_to_host() const {
+  if constexpr (exec::offload_build()) {
+    if (grains_stale_)
+      for (const auto* c : {&grains_.cx, &grains_.cy, &grains_.cz, &grains_.cvx, &grains_.cvy, &grains_.cvz})
+        exec::to_host(*c);
+    grains_stale_ = false;
+  }
+}
+
+void PeridemSimulation::pairs_to_host() const {
+  if constexpr (exec::offload_build()) {
+    if (pairs_stale_) {
+      exec::to_host(bonds_.broken);
+      list_.to_host();
+    }
+    pairs_stale_ = false;
+  }
+}
+
+void PeridemSimulation::state_to_device() const {
+  if constexpr (exec::offload_build()) {
+    if (nodes_edited_) to_device(nodes_);
+    if (grains_edited_) to_device(grains_);
+    nodes_edited_ = grains_edited_ = false;
+  }
+}
+
 void PeridemSimulation::rebuild_contacts() {
   const auto t0 = Clock::now();
+  state_to_device();
   list_.build(nodes_, grains_, bonds_, table_.max_contact_radius(), skin_);
-  list_x_ = nodes_.x;
-  list_y_ = nodes_.y;
-  list_z_ = nodes_.z;
+  device_changed(false, false, true);
   ++rebuilds_;
   ++times_.rebuilds;
   times_.neighbours += seconds_since(t0);
@@ -252,6 +309,8 @@ void PeridemSimulation::rebuild_contacts() {
 
 void PeridemSimulation::compute_forces() {
   auto t0 = Clock::now();
+  state_to_device();
+  device_changed(true, true, true);  // forces and theta; grain centres; broken bonds and the list
   pd_weight_forces(nodes_, grains_, settings_.gravity);
   times_.other += seconds_since(t0);
   t0 = Clock::now();
@@ -275,6 +334,8 @@ void PeridemSimulation::compute_forces() {
 void PeridemSimulation::step() {
   const exec::TunedStep tuned;  // times the step for the thread tuner, when the count is tuned
   const auto t0 = Clock::now();
+  state_to_device();
+  device_changed(true, false, false);
   pd_integrate(nodes_, grains_, settings_.time_step, step_ == 0);
   times_.integration += seconds_since(t0);
   ++step_;
@@ -291,10 +352,27 @@ void PeridemSimulation::set_grain_names(std::vector<std::string> names) {
 }
 
 void PeridemSimulation::refresh_damage(double* broken_fraction) {
-  pd_damage_pass(lps_, grains_, bonds_, nodes_, broken_fraction);
+  state_to_device();
+  device_changed(true, false, false);
+  // Offload builds: the fractions are written on the device, into scratch, and copied out.
+  double* fraction = broken_fraction;
+  if constexpr (exec::offload_build()) {
+    if (broken_fraction) {
+      broken_fraction_.resize(nodes_.size());
+      fraction = broken_fraction_.data();
+    }
+  }
+  pd_damage_pass(lps_, grains_, bonds_, nodes_, fraction);
+  if constexpr (exec::offload_build()) {
+    if (broken_fraction) {
+      exec::to_host(broken_fraction_);
+      std::copy(broken_fraction_.begin(), broken_fraction_.end(), broken_fraction);
+    }
+  }
 }
 
 std::string PeridemSimulation::explosion_check() const {
+  nodes_to_host();  // (the grains' kinds are constant: always current on the host)
   const double reach = table_.max_contact_radius();
   const double dt = settings_.time_step;
   for (std::size_t i = 0; i < nodes_.size(); ++i) {
@@ -315,15 +393,21 @@ void PeridemSimulation::run(long steps) {
   for (long s = 0; s < steps; ++s) step();
 }
 
-void PeridemSimulation::refresh_grain_centres() { pd_grain_centres(nodes_, grains_, work_); }
+void PeridemSimulation::refresh_grain_centres() {
+  state_to_device();
+  device_changed(false, true, false);
+  pd_grain_centres(nodes_, grains_, work_);
+}
 
 std::vector<Vec3> PeridemSimulation::wall_reactions() const {
-  std::vector<Vec3> r;
-  pd_wall_reactions(nodes_, grains_, r);
-  return r;
+  state_to_device();
+  pd_wall_reactions(nodes_, grains_, reactions_);
+  exec::to_host(reactions_);
+  return std::vector<Vec3>(reactions_.begin(), reactions_.end());
 }
 
 void PeridemSimulation::set_grain_velocity(int g, Vec3 v) {
+  nodes();  // current on the host, and marked as edited
   for (int i = grains_.node_begin[g]; i < grains_.node_end[g]; ++i) {
     nodes_.vx[i] = nodes_.fixed[i] & 1 ? 0.0 : v.x;
     nodes_.vy[i] = nodes_.fixed[i] & 2 ? 0.0 : v.y;
@@ -332,6 +416,8 @@ void PeridemSimulation::set_grain_velocity(int g, Vec3 v) {
 }
 
 void PeridemSimulation::set_wall_velocity(int g, Vec3 v) {
+  nodes();  // current on the host, and marked as edited
+  grains();
   const std::size_t k = static_cast<std::size_t>(g);
   grains_.wall_vx[k] = v.x;
   grains_.wall_vy[k] = v.y;
@@ -344,6 +430,7 @@ void PeridemSimulation::set_wall_velocity(int g, Vec3 v) {
 }
 
 void PeridemSimulation::move_wall(int g, Vec3 d) {
+  nodes();  // current on the host, and marked as edited
   const std::size_t k = static_cast<std::size_t>(g);
   const int b = grains_.node_begin[k], e = grains_.node_end[k];
   for (int i = b; i < e; ++i) {
@@ -398,28 +485,27 @@ void PeridemSimulation::recompute_forces() {
 PeridemDiagnostics PeridemSimulation::diagnostics() {
   PeridemDiagnostics d;
   const std::size_t n = nodes_.size();
+  // The passes first (on the device in offload builds), then the host's sums over the copies brought back.
+  state_to_device();
+  d.bond_energy = pd_elastic_energy(lps_, grains_, bonds_, nodes_);
+  d.contact_energy = pd_contact_elastic_energy(table_, nodes_, grains_, list_);
+  refresh_damage();
+  d.contact_pairs = touching_pairs();
+  nodes_to_host();  // (the grains' kinds are constant: always current on the host)
   for (std::size_t i = 0; i < n; ++i) {
     if (!is_particle(grains_, nodes_.grain[i])) continue;
     const double m = nodes_.mass[i];
     d.kinetic_energy += 0.5 * m * (nodes_.vx[i] * nodes_.vx[i] + nodes_.vy[i] * nodes_.vy[i] + nodes_.vz[i] * nodes_.vz[i]);
     d.momentum += Vec3{m * nodes_.vx[i], m * nodes_.vy[i], m * nodes_.vz[i]};
   }
-  d.bond_energy = pd_elastic_energy(lps_, grains_, bonds_, nodes_);
-  d.contact_energy = pd_contact_elastic_energy(table_, nodes_, grains_, list_);
-  refresh_damage();
   for (std::size_t i = 0; i < n; ++i) d.max_damage = std::max(d.max_damage, nodes_.damage[i]);
   d.broken_bonds = broken_total_;
-  d.contact_pairs = touching_pairs();
   return d;
 }
 
 long PeridemSimulation::touching_pairs() const {
-  long touching = 0;
-  for_each_listed_pair([&](int, int, double dist, double rc) {
-    touching += dist < rc;
-    return true;
-  });
-  return touching;
+  state_to_device();
+  return pd_touching_pairs(table_, nodes_, grains_, list_);
 }
 
 std::string PeridemSimulation::penetration_check(double limit) const {
@@ -442,6 +528,7 @@ std::string PeridemSimulation::penetration_check(double limit) const {
 }
 
 std::string PeridemSimulation::health_check() const {
+  nodes_to_host();
   for (std::size_t i = 0; i < nodes_.size(); ++i) {
     const double v[9] = {nodes_.x[i], nodes_.y[i], nodes_.z[i], nodes_.vx[i], nodes_.vy[i],
                          nodes_.vz[i], nodes_.fx[i], nodes_.fy[i], nodes_.fz[i]};

@@ -8,11 +8,22 @@
 // Forces at step n use x^n; eq 32 in velocity form gives v^{n+1/2} = v^{n-1/2} + dt f^n / m and
 // x^{n+1} = x^n + dt v^{n+1/2} (kernels/pd_integrate.hpp). The stored velocity is half a step behind the
 // positions; the first step kicks by dt/2 from the initial velocity.
+//
+// Device residency (offload builds; none of it exists in host builds): nodes, grains, bonds, the contact
+// list, the material and contact tables and every scratch array live on the device from construction (or
+// restore) to destruction, and a step transfers nothing but the scalars of its reductions (bonds broken,
+// largest drift) and, on steps that break bonds or rebuild the list, the list's prefix sums and slots
+// (core/pd_contact_list.hpp). The host copies are refreshed only where the host reads them, in three parts
+// (nodes, grains, bonds + contact list), each once per change: the accessors nodes(), grains(), bonds() and
+// contacts(), the checks, diagnostics() and checkpoints. The non-const nodes() and grains(), and the stage
+// changes (walls placed or set moving, grain velocities), mark the host copies as edited, so the next kernel
+// sends them first (state_to_device()).
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "core/bond_list.hpp"
+#include "core/exec.hpp"
 #include "core/pd_contact_list.hpp"
 #include "core/pd_nodes.hpp"
 #include "core/vec3.hpp"
@@ -76,13 +87,36 @@ class PeridemSimulation {
   void step();
   void run(long steps);
 
-  // State.
-  const PdNodes& nodes() const { return nodes_; }
-  PdNodes& nodes() { return nodes_; }
-  const PdGrains& grains() const { return grains_; }
-  PdGrains& grains() { return grains_; }
-  const BondList& bonds() const { return bonds_; }
-  const PdContactList& contacts() const { return list_; }
+  // State. The accessors return the host copies, current (offload builds: copied back from the device if a
+  // kernel changed them); the non-const ones count as an edit, sent to the device before the next kernel.
+  const PdNodes& nodes() const {
+    nodes_to_host();
+    return nodes_;
+  }
+  PdNodes& nodes() {
+    nodes_to_host();
+    if constexpr (exec::offload_build()) nodes_edited_ = true;
+    return nodes_;
+  }
+  const PdGrains& grains() const {
+    grains_to_host();
+    return grains_;
+  }
+  PdGrains& grains() {
+    grains_to_host();
+    if constexpr (exec::offload_build()) grains_edited_ = true;
+    return grains_;
+  }
+  const BondList& bonds() const {
+    pairs_to_host();
+    return bonds_;
+  }
+  const PdContactList& contacts() const {
+    pairs_to_host();
+    return list_;
+  }
+  /// Nodes in the system (no transfer: the runner asks every step).
+  std::size_t node_count() const { return nodes_.size(); }
   const PdContactTable& contact_table() const { return table_; }
   const std::vector<PdMaterial>& materials() const { return materials_; }
   const PeridemSettings& settings() const { return settings_; }
@@ -160,6 +194,25 @@ class PeridemSimulation {
   static PeridemSimulation restore(const h5::File& f, std::string* input_echo);
   void compute_forces();
   void rebuild_contacts();
+  // Residency (offload builds; no-ops in host builds). *_stale_: kernels changed the device copies since the
+  // host's were refreshed; *_edited_: the host copies were changed, the device's are not current (the host
+  // edits nodes and grains only: bonds and the contact list are the kernels').
+  void nodes_to_host() const;
+  void grains_to_host() const;
+  void pairs_to_host() const;  // the bonds' broken flags and the contact list
+  void state_to_host() const {
+    nodes_to_host();
+    grains_to_host();
+    pairs_to_host();
+  }
+  void state_to_device() const;
+  void device_changed(bool nodes, bool grains, bool pairs) const {
+    if constexpr (exec::offload_build()) {
+      nodes_stale_ = nodes_stale_ || nodes;
+      grains_stale_ = grains_stale_ || grains;
+      pairs_stale_ = pairs_stale_ || pairs;
+    }
+  }
   void refuse_grains_in_walls() const;
   // Each pair of the contact list once (i < j), with its distance and contact radius R_c; `visit(i, j, dist,
   // rc)` returns false to stop. The set-up check, the health check and the diagnostics share it.
@@ -169,7 +222,7 @@ class PeridemSimulation {
   PdNodes nodes_;
   PdGrains grains_;
   std::vector<PdMaterial> materials_;
-  std::vector<PdLpsConstants> lps_;
+  PdLpsTable lps_;
   PdContactTable table_;
   PeridemSettings settings_;
   BondList bonds_;
@@ -178,12 +231,16 @@ class PeridemSimulation {
   double mesh_size_ = 0, stable_dt_ = 0, skin_ = 0;
   long step_ = 0, broken_total_ = 0, rebuilds_ = 0;
   double time_ = 0;
-  // For checkpoints: the constructor's contact settings, and the node positions at the last contact list
-  // build (a restart rebuilds the list from them, so its rows, and the order of every force sum, match).
+  // For checkpoints: the constructor's contact settings (the node positions at the last contact list build,
+  // from which a restart rebuilds the list, are the list's own).
   std::vector<PdContactSettings> contact_settings_;
-  std::vector<double> list_x_, list_y_, list_z_;
   std::vector<std::string> grain_names_;
   PeridemPassTimes times_;
+  // Outputs of kernels the host reads (broken-bond fractions, wall reactions): device-resident scratch.
+  mutable exec::DeviceVector<double> broken_fraction_;
+  mutable exec::DeviceVector<Vec3> reactions_;
+  mutable bool nodes_stale_ = false, grains_stale_ = false, pairs_stale_ = false;
+  mutable bool nodes_edited_ = true, grains_edited_ = true;  // as constructed: on the host only
 };
 
 /// h of eq 35 per grain, minimised: the smallest reference distance between two nodes of one grain (the

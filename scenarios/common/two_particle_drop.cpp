@@ -81,12 +81,15 @@ TwoParticleDropResult run_two_particle_drop(const TwoParticleDrop& spec) {
   const double v0 = std::sqrt(spec.initial_speed * spec.initial_speed + 2.0 * spec.gravity * (spec.drop_height - gap0));
   sim.set_grain_velocity(gt, Vec3{0.0, -v0, 0.0});
 
+  // Reads go through the const accessors: they bring back what changed and do not count as edits (offload
+  // builds: the grain centres and, while the grains touch, the nodes come back every step).
+  const PeridemSimulation& view = sim;
   sim.refresh_grain_centres();
-  const double centre_gap0 = sim.grains().cy[gt] - sim.grains().cy[gb];
-  auto gap = [&] { return gap0 + (sim.grains().cy[gt] - sim.grains().cy[gb]) - centre_gap0; };
+  const double centre_gap0 = view.grains().cy[gt] - view.grains().cy[gb];
+  auto gap = [&] { return gap0 + (view.grains().cy[gt] - view.grains().cy[gb]) - centre_gap0; };
 
   TwoParticleDropResult r;
-  r.nodes = static_cast<long>(sim.nodes().size());
+  r.nodes = static_cast<long>(sim.node_count());
   r.mesh_h = sim.mesh_size();
   bool touched = false;
   long first_touch = -1, last_touch = -1, free_rising = 0;
@@ -99,10 +102,10 @@ TwoParticleDropResult run_two_particle_drop(const TwoParticleDrop& spec) {
     if (touching > 0) {
       // Damage peaks during the impact (eq 14 measures the current stretch): track its maximum per grain.
       sim.refresh_damage();
-      for (int i = sim.grains().node_begin[gb]; i < sim.grains().node_end[gb]; ++i)
-        r.bottom_max_damage = std::max(r.bottom_max_damage, sim.nodes().damage[i]);
-      for (int i = sim.grains().node_begin[gt]; i < sim.grains().node_end[gt]; ++i)
-        r.top_max_damage = std::max(r.top_max_damage, sim.nodes().damage[i]);
+      for (int i = view.grains().node_begin[gb]; i < view.grains().node_end[gb]; ++i)
+        r.bottom_max_damage = std::max(r.bottom_max_damage, view.nodes().damage[i]);
+      for (int i = view.grains().node_begin[gt]; i < view.grains().node_end[gt]; ++i)
+        r.top_max_damage = std::max(r.top_max_damage, view.nodes().damage[i]);
       if (!touched) first_touch = sim.step_count();
       touched = true;
       last_touch = sim.step_count();
@@ -112,7 +115,7 @@ TwoParticleDropResult run_two_particle_drop(const TwoParticleDrop& spec) {
     if (!touched) continue;
     // The stored velocity is half a step behind the positions (eq 32 in velocity form): the centre's
     // velocity at this step's time is v^{n-1/2} + dt/2 (-g) while the grain is free.
-    const double v = sim.grains().cvy[gt] - 0.5 * dt * g;
+    const double v = view.grains().cvy[gt] - 0.5 * dt * g;
     const double h = gap();
     // Free and rising for 100 steps (a node pushed back into its grain can leave R_c for a few steps while
     // the grains still press together, so one free step does not end the contact): from here the centre

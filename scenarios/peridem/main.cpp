@@ -72,6 +72,7 @@ long grain_broken_bonds(const PeridemSimulation& sim, std::size_t g) {
 
 /// Needs diagnostics() of this step first (damage, grain centres).
 std::vector<double> peridem_thermo_row(PeridemSimulation& sim, const PeridemDiagnostics& d, int dimension, bool per_grain) {
+  const PeridemSimulation& view = sim;  // reads: not edits (offload builds: no transfer back to the device)
   std::vector<double> row{static_cast<double>(sim.step_count()),
                           sim.time(),
                           d.kinetic_energy,
@@ -80,7 +81,7 @@ std::vector<double> peridem_thermo_row(PeridemSimulation& sim, const PeridemDiag
                           d.max_damage,
                           static_cast<double>(d.broken_bonds),
                           static_cast<double>(d.contact_pairs)};
-  const PdGrains& g = sim.grains();
+  const PdGrains& g = view.grains();
   const std::vector<Vec3> reaction = sim.wall_reactions();
   for (std::size_t k = 0; k < g.size(); ++k)
     if (is_wall(g, k)) {
@@ -90,7 +91,8 @@ std::vector<double> peridem_thermo_row(PeridemSimulation& sim, const PeridemDiag
     }
   if (!per_grain) return row;
   sim.refresh_grain_centres();
-  const PdNodes& n = sim.nodes();
+  view.grains();  // the centres just refreshed, brought back to the host (offload builds; g is that copy)
+  const PdNodes& n = view.nodes();
   for (std::size_t k = 0; k < g.size(); ++k) {
     if (is_wall(g, k)) continue;
     double damage = 0, kinetic = 0;
@@ -137,8 +139,8 @@ class PeridemRunModel final : public RunModel {
     terminal_ = n;
     if (terminal_ > kTerminalColumns) {
       terminal_ = kGlobalColumns;
-      for (std::size_t k = 0; k < sim_.grains().size(); ++k)
-        if (is_wall(sim_.grains(), k)) terminal_ += cfg_.dimension == 2 ? 2 : 3;
+      for (std::size_t k = 0; k < view().grains().size(); ++k)
+        if (is_wall(view().grains(), k)) terminal_ += cfg_.dimension == 2 ? 2 : 3;
     }
     // Every wall a stage names must be a wall of this system (a restart's system comes from its checkpoint).
     for (const PeridemStageChanges& c : cfg_.stage_changes)
@@ -148,7 +150,7 @@ class PeridemRunModel final : public RunModel {
   long step_count() const override { return sim_.step_count(); }
   double time() const override { return sim_.time(); }
   void step() override { sim_.step(); }
-  std::size_t items() const override { return sim_.nodes().size(); }
+  std::size_t items() const override { return sim_.node_count(); }  // every step: no transfer
   const char* item_name() const override { return "node"; }
 
   std::string health_check() override {
@@ -169,15 +171,15 @@ class PeridemRunModel final : public RunModel {
   }
 
   void open_frames(const std::string& dir, const std::string& suffix) override {
-    trajectory_.emplace(dir, "trajectory" + suffix, sim_.nodes(), sim_.grains(), sim_.grain_names());
-    broken_fraction_.assign(sim_.nodes().size(), 0.0);
+    trajectory_.emplace(dir, "trajectory" + suffix, view().nodes(), view().grains(), sim_.grain_names());
+    broken_fraction_.assign(sim_.node_count(), 0.0);
   }
   bool frame_due(long step) const override {
     return cfg_.output.trajectory_every > 0 && step % cfg_.output.trajectory_every == 0;
   }
   void write_frame(bool) override {
     sim_.refresh_damage(broken_fraction_.data());
-    trajectory_->write_frame(sim_.step_count(), sim_.time(), sim_.nodes(), broken_fraction_);
+    trajectory_->write_frame(sim_.step_count(), sim_.time(), view().nodes(), broken_fraction_);
   }
   std::string frame_files(const std::string& suffix) const override { return "trajectory" + suffix + ".xmf + .h5"; }
   void write_checkpoint(const std::string& path, const std::string& input) const override {
@@ -197,11 +199,11 @@ class PeridemRunModel final : public RunModel {
       Vec3 d{};
       if (w.move_by) d = *w.move_by;
       if (w.place_axis >= 0) {
-        const PdNodes& n = sim_.nodes();
-        const std::vector<double>& coord = w.place_axis == 0 ? n.x : (w.place_axis == 1 ? n.y : n.z);
+        const PdNodes& n = view().nodes();
+        const auto& coord = w.place_axis == 0 ? n.x : (w.place_axis == 1 ? n.y : n.z);
         const std::size_t gk = static_cast<std::size_t>(g);
-        double edge = coord[static_cast<std::size_t>(sim_.grains().node_begin[gk])];
-        for (int i = sim_.grains().node_begin[gk]; i < sim_.grains().node_end[gk]; ++i)
+        double edge = coord[static_cast<std::size_t>(view().grains().node_begin[gk])];
+        for (int i = view().grains().node_begin[gk]; i < view().grains().node_end[gk]; ++i)
           edge = w.place_max ? std::max(edge, coord[static_cast<std::size_t>(i)])
                              : std::min(edge, coord[static_cast<std::size_t>(i)]);
         (w.place_axis == 0 ? d.x : (w.place_axis == 1 ? d.y : d.z)) = w.place_at - edge;
@@ -235,6 +237,9 @@ class PeridemRunModel final : public RunModel {
   }
 
  private:
+  // The simulation for reading: const accessors bring back what changed and are not edits, which the
+  // non-const ones would be (sent back to the device before the next step, offload builds).
+  const PeridemSimulation& view() const { return sim_; }
   int wall_index(const PeridemStageChanges::WallChange& w) const {
     const std::vector<std::string>& names = sim_.grain_names();
     for (std::size_t k = 0; k < names.size(); ++k)
