@@ -27,6 +27,7 @@
 #include <benchmark/benchmark.h>
 #include <yaml-cpp/yaml.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
@@ -229,6 +230,15 @@ void take_snapshot(PdSystem& s) {
   s.cutoff = s.list.cutoff();
   s.skin = s.list.skin();
   s.touching = sim.touching_pairs();
+  // Offload builds: a copy's device buffers start empty, and the pass benchmarks run on these copies; the
+  // contact list is built again from them, on the device (a build at the snapshot's positions, which
+  // BM_PdContactListBuild compares it with). No-ops in host builds.
+  to_device(s.nodes);
+  to_device(s.grains);
+  to_device(s.bonds);
+  exec::to_device(s.lps);
+  exec::to_device(s.table.pairs);
+  if constexpr (exec::offload_build()) s.list.build(s.nodes, s.grains, s.bonds, s.cutoff, s.skin);
 }
 
 /// The deck as it runs: kWarmUpSteps steps after set-up.
@@ -358,9 +368,19 @@ void BM_PdStep(benchmark::State& state) {
   PdSystem& s = deck_system();
   PeridemSimulation& sim = *s.sim;
   const long rebuilds0 = sim.contact_rebuilds(), steps0 = sim.step_count();
+  exec::reset_transfer_stats();
+  const auto t0 = std::chrono::steady_clock::now();
   for (auto _ : state) sim.step();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const exec::TransferStats moved = exec::transfer_stats();
   const long steps = sim.step_count() - steps0;
-  state.SetItemsProcessed(state.iterations() * static_cast<long long>(sim.nodes().size()));
+  // node_count(), not nodes().size(): the non-const nodes() would mark the host copy edited, and the next
+  // run's first step would send every column to the device (offload builds).
+  state.SetItemsProcessed(state.iterations() * static_cast<long long>(sim.node_count()));
+  // Host <-> device transfers inside the timed steps (offload builds; zero in host builds).
+  state.counters["transfer_bytes_per_step"] =
+      (moved.to_host_bytes + moved.to_device_bytes) / static_cast<double>(steps > 0 ? steps : 1);
+  state.counters["transfer_share"] = seconds > 0 ? (moved.to_host_seconds + moved.to_device_seconds) / seconds : 0.0;
   state.counters["rebuilds_per_1k_steps"] =
       1000.0 * static_cast<double>(sim.contact_rebuilds() - rebuilds0) / static_cast<double>(steps > 0 ? steps : 1);
   state.counters["steps_since_setup"] = static_cast<double>(sim.step_count());
