@@ -137,7 +137,8 @@ void AmorphousSpec::validate() const {
   if (general_box) {
     const Vec3 in_d0 = (1.0 / d0_absolute()) * box_length();
     for (double v : {in_d0.x, in_d0.y, in_d0.z}) {
-      const std::string given = "[" + format_value(box.x) + ", " + format_value(box.y) + ", " + format_value(box.z) + "]";
+      std::string given = "[";  // appended: GCC 12 warns falsely (-Wrestrict) on "[" + a std::string temporary
+      given += format_value(box.x) + ", " + format_value(box.y) + ", " + format_value(box.z) + "]";
       if (!(fin(v) && v > 0.0)) throw input_error("sample.box", given, "every length must be > 0");
       if (v < min_len)
         throw input_error("sample.box", given,
