@@ -59,11 +59,6 @@ Vec3 planar(const InputNode& n, const std::string& key, u::Dimension dim, Vec3 f
   return v;
 }
 
-fs::path resolve(const std::string& file, const std::string& base) {
-  fs::path p = file;
-  if (p.is_relative() && !base.empty()) p = fs::path(base) / p;
-  return p;
-}
 
 // ---- materials ----------------------------------------------------------------------------------------
 
@@ -89,7 +84,7 @@ ShapeInput read_shape(const InputNode& n, const std::string& name, const std::st
   }
   if (type == "mesh_file") {
     s.from_file = true;
-    s.file = resolve(n.string("file"), base).string();
+    s.file = resolve_input_path(n.string("file"), base);
     return s;
   }
   const double h = n.quantity("mesh_size", u::length);
@@ -356,6 +351,12 @@ PeridemStageChanges read_stage_changes(const InputNode& st, const std::vector<Wa
 
 }  // namespace
 
+std::string resolve_input_path(const std::string& file, const std::string& base) {
+  fs::path p = file;
+  if (p.is_relative() && !base.empty()) p = fs::path(base) / p;
+  return p.string();
+}
+
 PdMaterial read_pd_material(const InputNode& n, int dimension) {
   PdMaterial m;
   m.density = n.quantity("density", u::density);
@@ -418,7 +419,7 @@ PeridemRunConfig read_peridem_input(const InputNode& root, const std::string& ba
   std::string csv_path;
   if (root.has("particle_file")) {
     const InputNode pf = root.child("particle_file");
-    csv_path = resolve(pf.string("file"), base).string();
+    csv_path = resolve_input_path(pf.string("file"), base);
     for (const InputNode& z : pf.list("zones")) {
       ZoneInput zone;
       zone.shape = z.string("shape");

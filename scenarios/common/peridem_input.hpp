@@ -116,6 +116,10 @@ struct PeridemInputOptions {
   std::string output_directory;
 };
 
+/// A file named in an input: relative paths are relative to the input file's directory `base` (empty: as
+/// given).
+std::string resolve_input_path(const std::string& file, const std::string& base);
+
 /// One material of a `materials:` section (density, moduli, fracture energy, horizon, lps_constants,
 /// bond_breaking), validated; InputError naming the key and the value.
 PdMaterial read_pd_material(const InputNode& n, int dimension);

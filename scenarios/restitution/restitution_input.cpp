@@ -37,15 +37,17 @@ std::vector<RestitutionCase> read_restitution_input_text(const std::string& text
   base.damping = root.choice("damping", {"grain_centres", "node_pairs"}, "grain_centres") == "grain_centres"
                      ? PdDamping::grain_centres
                      : PdDamping::node_pairs;
-  base.damping_centre_node = root.choice("damping_centre", {"mean", "centre_node"}, "mean") == "centre_node";
+  auto centre_node = [](const InputNode& n, bool fallback) {
+    return n.choice("damping_centre", {"mean", "centre_node"}, fallback ? "centre_node" : "mean") == "centre_node";
+  };
+  base.damping_centre_node = centre_node(root, false);
   base.mesh_directory = (std::filesystem::path(output) / "meshes").string();
   // Mesh files are relative to the input file's directory.
-  const std::filesystem::path input_dir = std::filesystem::path(name).parent_path();
+  const std::string input_dir = std::filesystem::path(name).parent_path().string();
   auto mesh_path = [&](const std::string& f, const std::string& key) {
-    std::filesystem::path p(f);
-    if (p.is_relative()) p = input_dir / p;
-    if (!std::filesystem::is_regular_file(p)) throw input_error(key, p.string(), "no such file");
-    return p.string();
+    const std::string p = resolve_input_path(f, input_dir);
+    if (!std::filesystem::is_regular_file(p)) throw input_error(key, p, "no such file");
+    return p;
   };
   // circle_meshes: [{radius: 3 mm, file: a.msh}, ...]: every grain of that radius is that Gmsh file's mesh
   // (the meshes the authors' code ran on) instead of one Gmsh makes here; a case's `meshes` overrides it.
@@ -99,8 +101,7 @@ std::vector<RestitutionCase> read_restitution_input_text(const std::string& text
     k.spec.damping_factor = c.quantity("damping_factor", u::dimensionless, base.damping_factor);
     k.spec.damping_onset_factor = c.quantity("damping_onset_factor", u::dimensionless, base.damping_onset_factor);
     k.spec.start_gap = c.quantity("start_gap", u::length, base.start_gap);
-    if (c.has("damping_centre"))
-      k.spec.damping_centre_node = c.choice("damping_centre", {"mean", "centre_node"}, "mean") == "centre_node";
+    k.spec.damping_centre_node = centre_node(c, base.damping_centre_node);
     k.spec.bottom_mesh_file = circle_mesh(k.spec.bottom_radius);
     k.spec.top_mesh_file = circle_mesh(k.spec.top_radius);
     if (c.has("meshes")) {
