@@ -25,6 +25,7 @@
 #include "scenarios/common/peridem_simulation.hpp"
 #include "tests/cli_helpers.hpp"
 #include "tests/dem_samples.hpp"
+#include "tests/pd_state_equality.hpp"
 
 namespace debris {
 namespace {
@@ -233,32 +234,6 @@ PeridemSimulation pd_impact(const fs::path& dir) {
   return sim;
 }
 
-// Every column of two node stores (same storage order), the bonds' broken flags, the grain centres and the
-// contact list's rows.
-void expect_same_pd_state(const PeridemSimulation& a, const PeridemSimulation& b) {
-  EXPECT_EQ(a.step_count(), b.step_count());
-  EXPECT_EQ(a.time(), b.time());
-  EXPECT_EQ(a.broken_bonds(), b.broken_bonds());
-  EXPECT_EQ(a.contact_rebuilds(), b.contact_rebuilds());
-  const PdNodes& na = a.nodes();
-  const PdNodes& nb = b.nodes();
-  ASSERT_EQ(na.size(), nb.size());
-  na.for_each_column([&](const char* name, const auto& col) {
-    nb.for_each_column([&](const char* other, const auto& col_b) {
-      if (std::string(name) != other) return;
-      if constexpr (std::is_same_v<std::decay_t<decltype(col)>, std::decay_t<decltype(col_b)>>) {
-        for (std::size_t i = 0; i < col.size(); ++i) ASSERT_EQ(col[i], col_b[i]) << name << "[" << i << "]";
-      }
-    });
-  });
-  EXPECT_EQ(a.bonds().broken, b.bonds().broken);
-  EXPECT_EQ(a.grains().cx, b.grains().cx);
-  EXPECT_EQ(a.grains().cvy, b.grains().cvy);
-  EXPECT_EQ(a.contacts().offset(), b.contacts().offset());
-  EXPECT_EQ(a.contacts().index(), b.contacts().index());
-  EXPECT_EQ(a.contacts().slot_pair_i(), b.contacts().slot_pair_i());
-  EXPECT_EQ(a.contacts().x_at_build(), b.contacts().x_at_build());
-}
 
 struct PdResult {
   PdNodes nodes;
@@ -345,7 +320,7 @@ TEST(DeviceResidency, PeridemCheckpointFromTheDeviceRestartsIdentically) {
   PeridemSimulation resumed = PeridemSimulation::from_checkpoint(ckpt.string());
   resumed.run(n);
   ASSERT_GT(straight.contact_rebuilds(), first.contact_rebuilds()) << "the test needs rebuilds after the checkpoint";
-  expect_same_pd_state(straight, resumed);
+  test::expect_same_pd_state(straight, resumed);
 }
 
 // The executable: thermo rows (energies, wall forces, per-grain centres, damage, broken bonds) and trajectory

@@ -20,6 +20,7 @@
 #include "scenarios/common/peridem_input.hpp"
 #include "scenarios/common/peridem_simulation.hpp"
 #include "tests/cli_helpers.hpp"
+#include "tests/pd_state_equality.hpp"
 
 namespace debris {
 namespace {
@@ -60,28 +61,6 @@ PeridemSimulation make(const std::string& damping, const fs::path& dir) {
   return sim;
 }
 
-void expect_identical(PeridemSimulation& a, PeridemSimulation& b) {
-  EXPECT_EQ(a.step_count(), b.step_count());
-  EXPECT_EQ(a.time(), b.time());
-  EXPECT_EQ(a.broken_bonds(), b.broken_bonds());
-  EXPECT_EQ(a.contact_rebuilds(), b.contact_rebuilds());
-  PdNodes& na = a.nodes();
-  PdNodes& nb = b.nodes();
-  ASSERT_EQ(na.size(), nb.size());
-  na.for_each_column([&](const char* name, auto& col) {
-    nb.for_each_column([&](const char* other, auto& col_b) {
-      if (std::string(name) != other) return;
-      if constexpr (std::is_same_v<std::decay_t<decltype(col)>, std::decay_t<decltype(col_b)>>) {
-        for (std::size_t i = 0; i < col.size(); ++i) ASSERT_EQ(col[i], col_b[i]) << name << "[" << i << "]";
-      }
-    });
-  });
-  EXPECT_EQ(a.bonds().broken, b.bonds().broken);
-  EXPECT_EQ(a.grains().cx, b.grains().cx);
-  EXPECT_EQ(a.grains().cvy, b.grains().cvy);
-  EXPECT_EQ(a.contacts().index(), b.contacts().index());
-  EXPECT_EQ(a.grain_names(), b.grain_names());
-}
 
 void expect_restart_bit_for_bit(const std::string& damping) {
   const fs::path dir = scratch(damping);
@@ -102,7 +81,7 @@ void expect_restart_bit_for_bit(const std::string& damping) {
   resumed.run(n);
   ASSERT_GT(straight.contact_rebuilds(), rebuilds_at_checkpoint + 3) << "the test needs rebuilds after the checkpoint";
   ASSERT_GT(straight.broken_bonds(), first.broken_bonds()) << "and bonds breaking after it";
-  expect_identical(straight, resumed);
+  test::expect_same_pd_state(straight, resumed);
 }
 
 // The thread tuner (core/thread_tuner.hpp) changes the thread count between steps while a run goes on: a run
@@ -121,7 +100,7 @@ TEST(PeridemThreads, CountChangedBetweenStepsGivesTheSameBits) {
   exec::set_threads(saved);
   ASSERT_GT(fixed.broken_bonds(), 0);
   ASSERT_GT(fixed.contact_rebuilds(), 2);
-  expect_identical(fixed, changing);
+  test::expect_same_pd_state(fixed, changing);
 }
 
 TEST(PeridemRestart, BitForBitWithBrokenBondsGrainCentreDamping) { expect_restart_bit_for_bit("grain_centres"); }
