@@ -10,6 +10,10 @@
 //   BM_PdContactPass       pd_contact_pass: node pairs (eqs 16-20) + grain centres + damping (eqs 26-30)
 //   BM_PdContactListBuild  PdContactList::build (cells, full rows with self-contact, grain-pair slots)
 //   BM_PdStep              PeridemSimulation::step(): integrate, list check/rebuild, forces, everything
+//   BM_PdStepTiled         the same on the deck tiled k x k times side by side (each tile its own grains,
+//                          container and lid, 1 mm apart): k = 2 by default (251,976 nodes);
+//                          DEBRIS_PD_TILES=k1,k2,... chooses (bench/gpu_check.sh: 4 and 8, i.e. 1.0 M and
+//                          4.0 M nodes, the device goal's "several million")
 //
 // items_per_second is node-steps per second (one item = one node through the pass once). Arguments:
 // threads (exec::set_threads); for the contact benchmarks also packed (below). Real time throughout
@@ -27,9 +31,12 @@
 #include <benchmark/benchmark.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <memory>
 #include <random>
 #include <string>
@@ -80,7 +87,9 @@ struct PeridemDeck {
   std::vector<ReferenceGrain> references;  // the particle zones' reference grains
 };
 
-PeridemDeck load_peridem_deck(const std::string& dir) {
+/// The deck, or with tiles_per_side = k > 1 the deck k x k times side by side: every tile the deck's grains
+/// and walls shifted by whole multiples of its extent plus 1 mm, the walls' prescribed motion repeated.
+PeridemDeck load_peridem_deck(const std::string& dir, int tiles_per_side = 1) {
   const std::string file = dir + "/input_0.yaml";
   const YAML::Node deck = YAML::LoadFile(file);
   PeridemDeck d;
@@ -149,14 +158,43 @@ PeridemDeck load_peridem_deck(const std::string& dir) {
   const YAML::Node gen = need(deck, "Particle_Generation", file);
   const std::vector<GrainRecord> records =
       read_grain_csv(dir + "/" + need(gen, "From_File", "Particle_Generation").as<std::string>());
-  place_grains(references, records, d.nodes, d.grains);
-  d.references = references;
+  std::vector<SimplexMesh> walls;
   for (int z : wall_zones) {
     const std::string key = "Zone_" + std::to_string(z);
     std::string mesh_file = mesh[key]["File"].as<std::string>();
     while (!mesh_file.empty() && mesh_file.back() == ' ') mesh_file.pop_back();
-    append_wall(read_gmsh_msh(dir + "/" + mesh_file), z - 1, d.nodes, d.grains, "Mesh." + key);
+    walls.push_back(read_gmsh_msh(dir + "/" + mesh_file));
   }
+  // The tile pitch: the deck's extent (grains' bounding circles and wall nodes) plus 1 mm, far beyond the
+  // contact cutoff, so tiles never touch.
+  Vec3 lo{1e300, 1e300, 0}, hi{-1e300, -1e300, 0};
+  auto extend = [&](double x, double y, double r) {
+    lo.x = std::min(lo.x, x - r), lo.y = std::min(lo.y, y - r), hi.x = std::max(hi.x, x + r), hi.y = std::max(hi.y, y + r);
+  };
+  for (const GrainRecord& g : records) extend(g.x, g.y, g.radius);
+  for (const SimplexMesh& w : walls)
+    for (const Vec3& v : w.nodes) extend(v.x, v.y, 0.0);
+  const double pitch_x = hi.x - lo.x + 1e-3, pitch_y = hi.y - lo.y + 1e-3;
+  const int tiles = tiles_per_side * tiles_per_side;
+  std::vector<GrainRecord> all;
+  all.reserve(records.size() * static_cast<std::size_t>(tiles));
+  for (int t = 0; t < tiles; ++t)
+    for (GrainRecord g : records) {
+      g.x += (t % tiles_per_side) * pitch_x, g.y += (t / tiles_per_side) * pitch_y;
+      all.push_back(g);
+    }
+  place_grains(references, all, d.nodes, d.grains);
+  d.references = references;
+  const int particle_grains = static_cast<int>(d.grains.size());
+  for (int t = 0; t < tiles; ++t)
+    for (std::size_t w = 0; w < walls.size(); ++w) {
+      SimplexMesh m = walls[w];
+      for (Vec3& v : m.nodes) v.x += (t % tiles_per_side) * pitch_x, v.y += (t / tiles_per_side) * pitch_y;
+      const std::string key = "Zone_" + std::to_string(wall_zones[w]);
+      append_wall(m, wall_zones[w] - 1, d.nodes, d.grains, "Mesh." + key);
+    }
+  // The deck's grain index of wall w is records.size() + w; tile t's copy is particle_grains + t walls + w.
+  const int deck_particles = static_cast<int>(records.size()), deck_walls = static_cast<int>(walls.size());
 
   // Gravity and the walls' prescribed motion (Displacement_BC: zero displacement, or linear in time u = a t,
   // a velocity a along the listed directions 1, 2, 3).
@@ -177,14 +215,14 @@ PeridemDeck load_peridem_deck(const std::string& dir) {
     }
     for (const YAML::Node& id : need(set, "Particle_List", path)) {
       const int gi = id.as<int>();
-      if (gi < 0 || gi >= static_cast<int>(d.grains.size()) ||
-          d.grains.kind[static_cast<std::size_t>(gi)] != static_cast<int>(PdGrainKind::wall))
+      if (gi < deck_particles || gi >= deck_particles + deck_walls)
         throw input_error(path + ".Particle_List", std::to_string(gi), "only walls may be prescribed here");
       for (const YAML::Node& dir_node : need(set, "Direction", path)) {
         const int axis = dir_node.as<int>();
         if (axis < 1 || axis > 3) throw input_error(path + ".Direction", std::to_string(axis), "must be 1, 2 or 3");
         auto& v = axis == 1 ? d.grains.wall_vx : axis == 2 ? d.grains.wall_vy : d.grains.wall_vz;
-        v[static_cast<std::size_t>(gi)] = rate;
+        for (int t = 0; t < tiles; ++t)
+          v[static_cast<std::size_t>(particle_grains + t * deck_walls + (gi - deck_particles))] = rate;
       }
     }
   }
@@ -241,12 +279,13 @@ void take_snapshot(PdSystem& s) {
   if constexpr (exec::offload_build()) s.list.build(s.nodes, s.grains, s.bonds, s.cutoff, s.skin);
 }
 
-/// The deck as it runs: kWarmUpSteps steps after set-up.
-PdSystem& deck_system() {
-  static std::unique_ptr<PdSystem> cached;
+/// The deck as it runs (k x k tiles of it for k > 1): kWarmUpSteps steps after set-up.
+PdSystem& deck_system(int tiles_per_side = 1) {
+  static std::map<int, std::unique_ptr<PdSystem>> cache;
+  auto& cached = cache[tiles_per_side];
   if (cached) return *cached;
   auto s = std::make_unique<PdSystem>();
-  PeridemDeck d = load_peridem_deck(deck_dir());
+  PeridemDeck d = load_peridem_deck(deck_dir(), tiles_per_side);
   s->deck_kn = d.deck_kn;
   s->sim =
       std::make_unique<PeridemSimulation>(std::move(d.nodes), std::move(d.grains), d.materials, d.contact, d.settings);
@@ -363,9 +402,8 @@ void BM_PdContactListBuild(benchmark::State& state) {
   set_counters(state, s, true, true);
 }
 
-void BM_PdStep(benchmark::State& state) {
-  exec::set_threads(static_cast<int>(state.range(0)));
-  PdSystem& s = deck_system();
+/// Steps s's engine for the benchmark's iterations and sets the counters both step benchmarks report.
+void time_steps(benchmark::State& state, PdSystem& s) {
   PeridemSimulation& sim = *s.sim;
   const long rebuilds0 = sim.contact_rebuilds(), steps0 = sim.step_count();
   exec::reset_transfer_stats();
@@ -391,9 +429,44 @@ void BM_PdStep(benchmark::State& state) {
   set_counters(state, s, true, true);
 }
 
+void BM_PdStep(benchmark::State& state) {
+  exec::set_threads(static_cast<int>(state.range(0)));
+  time_steps(state, deck_system());
+}
+
+void BM_PdStepTiled(benchmark::State& state) {
+  exec::set_threads(static_cast<int>(state.range(1)));
+  PdSystem& s = deck_system(static_cast<int>(state.range(0)));
+  time_steps(state, s);
+  state.counters["tiles"] = static_cast<double>(state.range(0) * state.range(0));
+}
+
 void pd_args(benchmark::internal::Benchmark* b) {
   b->ArgNames({"threads"});
   for (int t : {1, 2}) b->Args({t});
+  b->UseRealTime();
+  b->Unit(benchmark::kMillisecond);
+}
+
+// Tiles per side: 2 (4 tiles, 251,976 nodes) unless DEBRIS_PD_TILES=k1,k2,... says otherwise.
+void tiled_args(benchmark::internal::Benchmark* b) {
+  std::vector<int> sides{2};
+  if (const char* env = std::getenv("DEBRIS_PD_TILES"); env && *env) {
+    sides.clear();
+    for (const char* p = env; *p;) {
+      char* end = nullptr;
+      const long k = std::strtol(p, &end, 10);
+      if (end == p || k < 1 || k > 64 || (*end != ',' && *end != '\0')) {
+        std::fprintf(stderr, "DEBRIS_PD_TILES = '%s': give tiles per side (1 to 64) separated by commas\n", env);
+        std::exit(2);
+      }
+      sides.push_back(static_cast<int>(k));
+      p = *end == ',' ? end + 1 : end;
+    }
+  }
+  b->ArgNames({"tiles_per_side", "threads"});
+  for (int k : sides)
+    for (int t : {1, 2}) b->Args({k, t});
   b->UseRealTime();
   b->Unit(benchmark::kMillisecond);
 }
@@ -411,6 +484,7 @@ BENCHMARK(BM_PdBondPasses)->Apply(pd_args);
 BENCHMARK(BM_PdContactPass)->Apply(contact_args);
 BENCHMARK(BM_PdContactListBuild)->Apply(contact_args);
 BENCHMARK(BM_PdStep)->Apply(pd_args);
+BENCHMARK(BM_PdStepTiled)->Apply(tiled_args);
 
 }  // namespace
 }  // namespace debris
