@@ -41,7 +41,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <memory>
@@ -51,6 +50,7 @@
 #include <utility>
 #include <vector>
 
+#include "bench/bench_env.hpp"
 #include "core/cell_list.hpp"
 #include "core/contact_history.hpp"
 #include "core/exec.hpp"
@@ -441,20 +441,7 @@ BENCHMARK(BM_StepPolydisperse)
 std::vector<int> bench_sizes(bool whole_step) {
   std::vector<int> sizes{4000, 32000, 256000};
   if (whole_step) sizes.push_back(1048576);  // 4 x 64^3: the FCC box holds 4 c^3 particles
-  if (const char* env = std::getenv("DEBRIS_BENCH_SIZES"); env && *env) {
-    sizes.clear();
-    for (const char* p = env; *p;) {
-      char* end = nullptr;
-      const long n = std::strtol(p, &end, 10);
-      if (end == p || n < 1 || n > 100000000 || (*end != ',' && *end != '\0')) {
-        std::fprintf(stderr, "DEBRIS_BENCH_SIZES = '%s': give particle counts (1 to 1e8) separated by commas\n", env);
-        std::exit(2);
-      }
-      sizes.push_back(static_cast<int>(n));
-      p = *end == ',' ? end + 1 : end;
-    }
-  }
-  return sizes;
+  return env_int_list("DEBRIS_BENCH_SIZES", 1, 100000000, sizes, "particle counts");
 }
 
 void size_args(benchmark::internal::Benchmark* b, bool whole_step) {

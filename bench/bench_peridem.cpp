@@ -34,7 +34,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <memory>
@@ -42,6 +41,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_env.hpp"
 #include "core/bond_list.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
@@ -450,20 +450,7 @@ void pd_args(benchmark::internal::Benchmark* b) {
 
 // Tiles per side: 2 (4 tiles, 251,976 nodes) unless DEBRIS_PD_TILES=k1,k2,... says otherwise.
 void tiled_args(benchmark::internal::Benchmark* b) {
-  std::vector<int> sides{2};
-  if (const char* env = std::getenv("DEBRIS_PD_TILES"); env && *env) {
-    sides.clear();
-    for (const char* p = env; *p;) {
-      char* end = nullptr;
-      const long k = std::strtol(p, &end, 10);
-      if (end == p || k < 1 || k > 64 || (*end != ',' && *end != '\0')) {
-        std::fprintf(stderr, "DEBRIS_PD_TILES = '%s': give tiles per side (1 to 64) separated by commas\n", env);
-        std::exit(2);
-      }
-      sides.push_back(static_cast<int>(k));
-      p = *end == ',' ? end + 1 : end;
-    }
-  }
+  const std::vector<int> sides = env_int_list("DEBRIS_PD_TILES", 1, 64, {2}, "tiles per side");
   b->ArgNames({"tiles_per_side", "threads"});
   for (int k : sides)
     for (int t : {1, 2}) b->Args({k, t});
