@@ -146,6 +146,43 @@ __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4"))) vo
   }
 }
 
+// A row's own shares (force and torque on i), summed in increasing k.
+struct RowSum {
+  double fx = 0, fy = 0, fz = 0, tx = 0, ty = 0, tz = 0;
+};
+
+// Pairs [k_begin, k_end), whole rows, in chunks of kChunkPairs (pair_chunk is the vector loop): each row's
+// own shares are summed in increasing k, carried across chunks, and handed to row_done(i, sum) when the row
+// ends; each pair's partner share is handed to partner(k, q) while it is in the chunk buffer c (slot q).
+// Both paths of the pass walk their pairs with it and differ only in what they do with the two shares.
+template <class RowDone, class Partner>
+inline void sweep_rows(const PairInputs &in, int k_begin, int k_end, ChunkBuffer &c, RowDone &&row_done,
+                       Partner &&partner) {
+  const int *__restrict row = in.row;
+  int cur = -1;
+  RowSum sum;
+  for (int k0 = k_begin; k0 < k_end; k0 += kChunkPairs) {
+    const int k1 = std::min(k_end, k0 + kChunkPairs);
+    pair_chunk(in, k0, k1, c);
+    for (int k = k0; k < k1; ++k) {
+      const int q = k - k0, i = row[k];
+      if (i != cur) {
+        if (cur >= 0) row_done(cur, sum);
+        cur = i;
+        sum = RowSum{};
+      }
+      sum.fx += c.fx[q];
+      sum.fy += c.fy[q];
+      sum.fz += c.fz[q];
+      sum.tx += c.tix[q];
+      sum.ty += c.tiy[q];
+      sum.tz += c.tiz[q];
+      partner(k, q);
+    }
+  }
+  if (cur >= 0) row_done(cur, sum);
+}
+
 }  // namespace
 
 void HalfPassScratch::index(const NeighborList &list) {
@@ -209,7 +246,6 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
   const int blocks = static_cast<int>(s.block_row.size()) - 1;
   const int *__restrict block_row = s.block_row.data();
   const int *__restrict offset = list.offset().data();
-  const int *__restrict row = s.row_of.data();
   const int *__restrict in_entry = s.in_entry.data();
   const int *__restrict in_offset = s.in_offset.data();
   double *__restrict partner = s.partner.data();
@@ -227,43 +263,25 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
     std::fill(tx, tx + n, 0.0), std::fill(ty, ty + n, 0.0), std::fill(tz, tz + n, 0.0);
     const int *__restrict col = list.index().data();
     ChunkBuffer c;
-    const int m = list.entries();
-    int cur = -1;
-    double sfx = 0, sfy = 0, sfz = 0, stx = 0, sty = 0, stz = 0;
-    auto flush = [&] {  // the finished row: R + P
-      if (cur < 0) return;
-      fx[cur] = sfx + fx[cur];
-      fy[cur] = sfy + fy[cur];
-      fz[cur] = sfz + fz[cur];
-      tx[cur] = stx + tx[cur];
-      ty[cur] = sty + ty[cur];
-      tz[cur] = stz + tz[cur];
-    };
-    for (int k0 = 0; k0 < m; k0 += kChunkPairs) {
-      const int k1 = std::min(m, k0 + kChunkPairs);
-      pair_chunk(in, k0, k1, c);
-      for (int k = k0; k < k1; ++k) {
-        const int q = k - k0, i = row[k], j = col[k];
-        if (i != cur) {
-          flush();
-          cur = i;
-          sfx = sfy = sfz = stx = sty = stz = 0;
-        }
-        sfx += c.fx[q];
-        sfy += c.fy[q];
-        sfz += c.fz[q];
-        stx += c.tix[q];
-        sty += c.tiy[q];
-        stz += c.tiz[q];
-        fx[j] -= c.fx[q];
-        fy[j] -= c.fy[q];
-        fz[j] -= c.fz[q];
-        tx[j] += c.tjx[q];
-        ty[j] += c.tjy[q];
-        tz[j] += c.tjz[q];
-      }
-    }
-    flush();
+    sweep_rows(
+        in, 0, list.entries(), c,
+        [&](int i, const RowSum &r) {  // the finished row: R + P
+          fx[i] = r.fx + fx[i];
+          fy[i] = r.fy + fy[i];
+          fz[i] = r.fz + fz[i];
+          tx[i] = r.tx + tx[i];
+          ty[i] = r.ty + ty[i];
+          tz[i] = r.tz + tz[i];
+        },
+        [&](int k, int q) {  // P_j, in increasing k
+          const int j = col[k];
+          fx[j] -= c.fx[q];
+          fy[j] -= c.fy[q];
+          fz[j] -= c.fz[q];
+          tx[j] += c.tjx[q];
+          ty[j] += c.tjy[q];
+          tz[j] += c.tjz[q];
+        });
     return;
   }
 
@@ -280,44 +298,25 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
       // The block's rows start from zero here, not in a sweep of their own (this thread owns them; phase 2
       // reads them only after the loop barrier).
       for (int i = block_row[b]; i < block_row[b + 1]; ++i) fx[i] = fy[i] = fz[i] = tx[i] = ty[i] = tz[i] = 0.0;
-      const int k_end = offset[block_row[b + 1]];
-      int cur = -1;
-      double sfx = 0, sfy = 0, sfz = 0, stx = 0, sty = 0, stz = 0;
-      auto flush = [&] {  // the finished row's own share
-        if (cur < 0) return;
-        fx[cur] += sfx;
-        fy[cur] += sfy;
-        fz[cur] += sfz;
-        tx[cur] += stx;
-        ty[cur] += sty;
-        tz[cur] += stz;
-      };
-      for (int k0 = offset[block_row[b]]; k0 < k_end; k0 += kChunkPairs) {
-        const int k1 = std::min(k_end, k0 + kChunkPairs);
-        pair_chunk(in, k0, k1, c);
-        for (int k = k0; k < k1; ++k) {
-          const int q = k - k0, i = row[k];
-          if (i != cur) {
-            flush();
-            cur = i;
-            sfx = sfy = sfz = stx = sty = stz = 0;
-          }
-          sfx += c.fx[q];
-          sfy += c.fy[q];
-          sfz += c.fz[q];
-          stx += c.tix[q];
-          sty += c.tiy[q];
-          stz += c.tiz[q];
-          double *share_k = partner + static_cast<std::ptrdiff_t>(kShareStride) * k;
-          share_k[0] = c.fx[q];
-          share_k[1] = c.fy[q];
-          share_k[2] = c.fz[q];
-          share_k[3] = c.tjx[q];
-          share_k[4] = c.tjy[q];
-          share_k[5] = c.tjz[q];
-        }
-      }
-      flush();
+      sweep_rows(
+          in, offset[block_row[b]], offset[block_row[b + 1]], c,
+          [&](int i, const RowSum &r) {  // the finished row's own share: R = 0 + the sum
+            fx[i] += r.fx;
+            fy[i] += r.fy;
+            fz[i] += r.fz;
+            tx[i] += r.tx;
+            ty[i] += r.ty;
+            tz[i] += r.tz;
+          },
+          [&](int k, int q) {  // filed at the pair's index for phase 2
+            double *share_k = partner + static_cast<std::ptrdiff_t>(kShareStride) * k;
+            share_k[0] = c.fx[q];
+            share_k[1] = c.fy[q];
+            share_k[2] = c.fz[q];
+            share_k[3] = c.tjx[q];
+            share_k[4] = c.tjy[q];
+            share_k[5] = c.tjz[q];
+          });
     }
 
     // Phase 2: each particle sums the shares filed for it (pairs where it is the partner, in increasing k,
