@@ -50,6 +50,25 @@ void pd_weight_forces(PdNodes& nodes, const PdGrains& grains, Vec3 g) {
   }
 }
 
+void pd_viscous_damping(PdNodes& nodes, const PdGrains& grains, double c) {
+  const int n = static_cast<int>(nodes.size());
+  const double* __restrict mass = nodes.mass.data();
+  const int* __restrict grain = nodes.grain.data();
+  const int* __restrict kind = grains.kind.data();
+  const double* __restrict vx = nodes.vx.data(), *__restrict vy = nodes.vy.data(), *__restrict vz = nodes.vz.data();
+  double* __restrict fx = nodes.fx.data(), *__restrict fy = nodes.fy.data(), *__restrict fz = nodes.fz.data();
+  const int wall = static_cast<int>(PdGrainKind::wall);
+  DEBRIS_RESIDENT(mass, grain, kind, vx, vy, vz, fx, fy, fz);
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    if (kind[grain[i]] == wall) continue;  // walls move as prescribed
+    const double cm = c * mass[i];
+    fx[i] -= cm * vx[i];
+    fy[i] -= cm * vy[i];
+    fz[i] -= cm * vz[i];
+  }
+}
+
 void pd_integrate(PdNodes& nodes, const PdGrains& grains, double dt, bool first_step) {
   const int n = static_cast<int>(nodes.size());
   double* __restrict x = nodes.x.data(), *__restrict y = nodes.y.data(), *__restrict z = nodes.z.data();

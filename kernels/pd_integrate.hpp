@@ -27,6 +27,11 @@ void pd_gravity_pass(PdNodes& nodes, const PdGrains& grains, Vec3 g);
 /// pd_zero_forces then pd_gravity_pass, one parallel region fewer per step).
 void pd_weight_forces(PdNodes& nodes, const PdGrains& grains, Vec3 g);
 
+/// Global viscous damping: f -= c m v on particle nodes, with the stored v (half a step behind), so a free
+/// node's velocity shrinks by (1 - c dt) per step: v^{n+1/2} = (1 - c dt) v^{n-1/2} + dt f / m. Not part of
+/// paper B's model: it brings a pack to rest before it is loaded (a settle stage). c >= 0, c dt < 1.
+void pd_viscous_damping(PdNodes& nodes, const PdGrains& grains, double c);
+
 /// One step of eq 32 in velocity form. first_step: the stored velocity is the initial v^0 and the kick is
 /// dt/2 (see above); every later step kicks by dt. Particle nodes: components whose bit is set in
 /// PdNodes::fixed (1 x, 2 y, 4 z) keep their position and have zero velocity; the others move with f / m

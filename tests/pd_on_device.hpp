@@ -104,6 +104,13 @@ inline void pd_weight_forces(PdNodes& nodes, const PdGrains& grains, Vec3 g) {
   to_host(nodes);
 }
 
+inline void pd_viscous_damping(PdNodes& nodes, const PdGrains& grains, double c) {
+  to_device(nodes);
+  to_device(grains);
+  debris::pd_viscous_damping(nodes, grains, c);
+  to_host(nodes);
+}
+
 inline void pd_integrate(PdNodes& nodes, const PdGrains& grains, double dt, bool first_step = false) {
   to_device(nodes);
   to_device(grains);

@@ -1029,6 +1029,33 @@ TEST(PdFriction, BlockSlidingOnAWallDeceleratesAtMuGStopsAndDoesNotReverse) {
       -r.reaction_at_rest.y / r.weight);
 }
 
+// Global viscous damping (a settle stage): with f = m g - c m v^{n-1/2}, eq 32's kick gives the recurrence
+// v^{n+1/2} = (1 - c dt) v^{n-1/2} + g dt, whose solution approaches the terminal velocity g / c as
+// (1 - c dt)^n; walls are not damped.
+TEST(PdIntegrate, ViscousDampingFollowsItsRecurrenceToTheTerminalVelocity) {
+  PdSystem s;
+  s.begin_grain(PdGrainKind::particle);
+  s.add_node({0.0, 0.0, 0.0}, 2e-9, 2500.0);
+  s.begin_grain(PdGrainKind::wall);
+  s.add_node({1.0, 0.0, 0.0}, 2e-9, 2500.0);
+  s.grains.wall_vx[1] = 0.3;
+  const double c = 50.0, dt = 1e-3, gy = -9.81, v0 = 2.0;
+  s.nodes.vy[0] = v0;
+  const double terminal = gy / c;
+  const double half = v0 + 0.5 * dt * (gy - c * v0);  // the first step's half kick
+  for (int n = 1; n <= 400; ++n) {
+    test::pd_zero_forces(s.nodes);
+    test::pd_gravity_pass(s.nodes, s.grains, {0.0, gy, 0.0});
+    test::pd_viscous_damping(s.nodes, s.grains, c);
+    ASSERT_EQ(s.nodes.fx[1], 0.0) << "a wall node is not damped";
+    test::pd_integrate(s.nodes, s.grains, dt, n == 1);
+    const double exact = terminal + std::pow(1.0 - c * dt, n - 1) * (half - terminal);
+    ASSERT_NEAR(s.nodes.vy[0], exact, 1e-12) << "step " << n;
+  }
+  EXPECT_NEAR(s.nodes.vy[0], terminal, 1e-3 * std::fabs(terminal));  // (0.95)^399: at the terminal velocity
+  EXPECT_EQ(s.nodes.vx[1], 0.3);
+}
+
 TEST(PdIntegrate, FreeNodeFollowsTheParabolaFixedComponentsStayWallsMoveAtTheirVelocity) {
   PdSystem s;
   s.begin_grain(PdGrainKind::particle);

@@ -6,6 +6,7 @@
 // are named errors with exit 2 that write nothing.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -309,6 +310,68 @@ TEST(StagedRun, PeridemBadStagesAreNamedErrors) {
     EXPECT_EQ(r.exit_code, 2) << c.to << "\n" << r.output;
     EXPECT_NE(r.output.find(c.must_mention), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(d / "out" / "thermo.csv")) << "a bad input wrote output: " << c.to;
+  }
+}
+
+// A settle stage's global viscous damping (F -= c m v on the particle nodes): a lone disc coasting at v0
+// keeps v0 exactly through the first stage, then loses the factor (1 - c dt) every step of the damped one
+// (pd_viscous_damping); a run split inside the damped stage restarts bit for bit (the rate is in the
+// checkpoint); bad rates are named errors that write nothing.
+std::string peridem_damped_input(const std::string& out_dir, const std::string& rate = "20000 s^-1") {
+  return R"(dimension: 2
+materials:
+  M1: {density: 1200 kg/m^3, bulk_modulus: 0.0216 GPa, shear_modulus: 0.01296 GPa, fracture_energy: 50 J/m^2,
+       horizon: 0.6 mm}
+shapes:
+  disc: {type: circle, radius: 1 mm, mesh_size: 0.3 mm}
+grains:
+  - {name: disc, shape: disc, material: M1, centre: [0, 0, 0], velocity: [0.5 m/s, -1 m/s, 0]}
+stages:
+  - {name: coast, steps: 100}
+  - {name: settle, steps: 100, global_damping: )" + rate + R"(}
+run:
+  time_step: 0.1 us
+output:
+  directory: )" + out_dir + R"(
+  thermo_every: 50
+)";
+}
+
+TEST(StagedRun, PeridemGlobalDampingStageDecaysAsItsRecurrenceAndRestartsBitForBit) {
+  const fs::path d = debris::test::fresh_directory("debris_stages_peridem_damping");
+  const std::string full = peridem_damped_input((d / "full").string());
+  const std::string full_path = write_text_file(d, "full.yaml", full);
+  const CommandResult whole = run_peridem("-i " + full_path);
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  EXPECT_NE(whole.output.find("global damping 20000 1/s"), std::string::npos) << whole.output;
+  const std::string thermo = slurp(d / "full" / "thermo.csv");
+  const auto cols = csv_header(thermo);
+  const auto rows = csv_rows(thermo);
+  ASSERT_EQ(rows.size(), 5u);  // steps 0, 50, ..., 200
+  const std::size_t vx = column(cols, "disc_vx"), vy = column(cols, "disc_vy");
+  const double c_dt = 20000.0 * 1e-7;
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const int damped_steps = std::max(0, 50 * static_cast<int>(r) - 100);
+    const double factor = std::pow(1.0 - c_dt, damped_steps);
+    EXPECT_NEAR(rows[r][vx], 0.5 * factor, 1e-9) << "row " << r;
+    EXPECT_NEAR(rows[r][vy], -1.0 * factor, 1e-9) << "row " << r;
+  }
+  EXPECT_LT(rows[4][vx], 0.5 * 0.82);  // (1 - 2e-3)^100 = 0.8186: the damping acted
+
+  std::string part = replace(full, (d / "full").string(), (d / "split").string());
+  part = replace(part, "run:\n", "run:\n  steps: 150\n");
+  ASSERT_EQ(run_peridem("-i " + write_text_file(d, "split.yaml", part)).exit_code, 0);
+  const CommandResult rest = run_peridem("--restart " + (d / "split" / "checkpoint.h5").string() + " -i " +
+                                         full_path + " -o " + (d / "split").string());
+  ASSERT_EQ(rest.exit_code, 0) << rest.output;
+  EXPECT_EQ(thermo, slurp(d / "split" / "thermo.csv"));
+
+  for (const std::string& bad : {std::string("-5 s^-1"), std::string("1e7 s^-1"), std::string("100 m")}) {
+    const CommandResult r =
+        run_peridem("-i " + write_text_file(d, "bad.yaml", peridem_damped_input((d / "out").string(), bad)));
+    EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.output;
+    EXPECT_NE(r.output.find("stages[1].global_damping"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(d / "out" / "thermo.csv")) << "a bad input wrote output: " << bad;
   }
 }
 

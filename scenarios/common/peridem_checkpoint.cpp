@@ -73,6 +73,7 @@ void PeridemSimulation::write_checkpoint(const std::string& path, const std::str
       set.write("gravity", std::vector<double>{settings_.gravity.x, settings_.gravity.y, settings_.gravity.z});
       set.write_scalar<std::int32_t>("damping", static_cast<std::int32_t>(settings_.damping));
       set.write_scalar<double>("skin", settings_.skin);
+      set.write_scalar<double>("global_damping", settings_.global_damping);
       std::vector<double> mats;
       for (const PdMaterial& m : materials_)
         mats.insert(mats.end(), {m.density, m.bulk_modulus, m.shear_modulus, m.fracture_energy, m.horizon,
@@ -165,6 +166,9 @@ PeridemSimulation PeridemSimulation::restore(const h5::File& f, std::string* inp
       throw corrupt(path, "settings/damping is no known damping");
     sim.settings_.damping = static_cast<PdDamping>(damping);
     sim.settings_.skin = set.read_scalar<double>("skin");
+    // Absent from format-2 files written before stages could damp: no damping.
+    sim.settings_.global_damping = set.has("global_damping") ? set.read_scalar<double>("global_damping") : 0.0;
+    if (!(sim.settings_.global_damping >= 0)) throw corrupt(path, "settings/global_damping is negative or not a number");
     if (!std::isfinite(sim.settings_.time_step) || !all_finite(g) || !std::isfinite(sim.settings_.skin))
       throw corrupt(path, "settings/ holds a non-finite time step, gravity or skin");
     const auto mats = set.read<double>("materials").values;

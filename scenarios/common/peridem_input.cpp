@@ -303,9 +303,15 @@ void set_grain_state(PdNodes& nodes, const PdGrains& grains, int g, Vec3 v, int 
 
 // What stage `st` changes (its name and length were read by read_stage_lengths). Walls are named as in
 // walls: (an unnamed one is wall<k>); the wall's grain index is found at run time, on the built system.
-PeridemStageChanges read_stage_changes(const InputNode& st, const std::vector<WallInput>& walls, int dim) {
+PeridemStageChanges read_stage_changes(const InputNode& st, const std::vector<WallInput>& walls, int dim, double dt) {
   PeridemStageChanges c;
   if (st.has("gravity")) c.gravity = planar(st, "gravity", u::acceleration, Vec3{}, dim);
+  if (st.has("global_damping")) {
+    c.global_damping = st.quantity("global_damping", u::frequency);
+    if (!(*c.global_damping >= 0) || !(*c.global_damping * dt < 1))
+      throw input_error(st.path() + ".global_damping", format_value(*c.global_damping),
+                        "must be a rate >= 0 with rate * run.time_step < 1, e.g. '100 s^-1' (0 ends the damping)");
+  }
   if (!st.has("walls")) return c;
   for (const InputNode& w : st.list("walls")) {
     PeridemStageChanges::WallChange wc;
@@ -485,7 +491,7 @@ PeridemRunConfig read_peridem_input(const InputNode& root, const std::string& ba
   require_positive(cfg.settings.time_step, "run.time_step");
   std::vector<InputNode> stage_nodes;
   cfg.stages = read_stage_lengths(root, &stage_nodes);
-  for (const InputNode& st : stage_nodes) cfg.stage_changes.push_back(read_stage_changes(st, walls, dim));
+  for (const InputNode& st : stage_nodes) cfg.stage_changes.push_back(read_stage_changes(st, walls, dim, cfg.settings.time_step));
   const bool has_steps = run.has("steps"), has_final = run.has("final_time");
   if (!cfg.stages.empty() && !has_steps && !has_final) {
     cfg.steps = -1;  // the stages' length
@@ -506,6 +512,10 @@ PeridemRunConfig read_peridem_input(const InputNode& root, const std::string& ba
   if (!(cfg.settings.skin >= 0))
     throw input_error("run.skin", format_value(cfg.settings.skin), "must be >= 0 (0: R_c)");
   cfg.settings.allow_unstable_time_step = run.boolean("allow_unstable_time_step", false);
+  cfg.settings.global_damping = run.quantity("global_damping", u::frequency, 0.0);
+  if (!(cfg.settings.global_damping >= 0) || !(cfg.settings.global_damping * cfg.settings.time_step < 1))
+    throw input_error("run.global_damping", format_value(cfg.settings.global_damping),
+                      "must be a rate >= 0 with rate * run.time_step < 1, e.g. '100 s^-1' (0: none)");
   cfg.penetration_limit = run.quantity("penetration_limit", u::dimensionless, cfg.penetration_limit);
   if (!(cfg.penetration_limit > 0 && cfg.penetration_limit <= 1))
     throw input_error("run.penetration_limit", format_value(cfg.penetration_limit),

@@ -37,7 +37,8 @@
 //   gravity: [0, -10 m/s^2, 0]
 //   stages: [...]                                 # optional: see PeridemStageChanges below
 //   run: {time_step: 0.1 us, steps: 1000 (or final_time: 1 ms; with stages optional), skin: 0 (R_c), threads: 0,
-//         allow_unstable_time_step: false, penetration_limit: 0.5}
+//         allow_unstable_time_step: false, penetration_limit: 0.5,
+//         global_damping: 0 s^-1}                # F -= c m v on particle nodes (settling; not paper B's model)
 //   output: {directory: out, thermo_every: 100, trajectory_every: 0, checkpoint_every: 0,
 //            progress_seconds: 10, grain_columns: 8}
 //
@@ -75,6 +76,7 @@ struct PeridemOutputSettings {
 ///       walls:                                   # by name (unnamed walls are wall0, wall1, ...)
 ///         - {name: lid, place: {y_min: 31.2 mm}, velocity: [0, -0.06 m/s, 0]}   # or move_by: [dx, dy, dz]
 ///       gravity: [0, -10 m/s^2, 0]
+///       global_damping: 100 s^-1                 # F -= c m v on particle nodes from now on (0 ends it)
 /// place: one of x_min, x_max, y_min, y_max, z_min, z_max: the wall moves rigidly along that axis until its
 /// lowest (min) or highest (max) node is there. A wall that would then touch a grain is an InputError
 /// naming both.
@@ -89,6 +91,7 @@ struct PeridemStageChanges {
   };
   std::vector<WallChange> walls;
   std::optional<Vec3> gravity;
+  std::optional<double> global_damping;  // 1/s
 };
 
 struct PeridemRunConfig {

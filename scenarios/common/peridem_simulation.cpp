@@ -125,6 +125,9 @@ PeridemSimulation::PeridemSimulation(PdNodes nodes, PdGrains grains, std::vector
   if (!(settings_.time_step > 0) || !std::isfinite(settings_.time_step))
     throw input_error("run.time_step", format_value(settings_.time_step), "must be > 0");
   if (!(settings_.skin >= 0)) throw input_error("run.skin", format_value(settings_.skin), "must be >= 0");
+  if (!(settings_.global_damping >= 0) || !(settings_.global_damping * settings_.time_step < 1))
+    throw input_error("run.global_damping", format_value(settings_.global_damping),
+                      "must be a rate >= 0 (1/s) with rate * time_step < 1");
   lps_.clear();
   for (std::size_t m = 0; m < materials_.size(); ++m) {
     const std::string prefix = "materials[" + std::to_string(m) + "]";
@@ -312,6 +315,7 @@ void PeridemSimulation::compute_forces() {
   state_to_device();
   device_changed(true, true, true);  // forces and theta; grain centres; broken bonds and the list
   pd_weight_forces(nodes_, grains_, settings_.gravity);
+  if (settings_.global_damping > 0) pd_viscous_damping(nodes_, grains_, settings_.global_damping);
   times_.other += seconds_since(t0);
   t0 = Clock::now();
   const long broke = pd_bond_step(lps_, grains_, bonds_, nodes_);
@@ -477,6 +481,14 @@ void PeridemSimulation::move_wall(int g, Vec3 d) {
 
 void PeridemSimulation::set_gravity(Vec3 g) { settings_.gravity = g; }
 
+void PeridemSimulation::set_global_damping(double c) {
+  if (!(c >= 0) || !(c * settings_.time_step < 1))
+    throw input_error("global_damping", format_value(c),
+                      "must be a rate >= 0 (1/s) with rate * time_step < 1 (time step " +
+                          format_value(settings_.time_step) + " s)");
+  settings_.global_damping = c;
+}
+
 void PeridemSimulation::recompute_forces() {
   rebuild_contacts();
   compute_forces();
@@ -555,6 +567,7 @@ std::string PeridemSimulation::summary() const {
      << " s, stable step " << stable_dt_ << " s (" << settings_.time_step / stable_dt_ << " of it); damping "
      << (settings_.damping == PdDamping::grain_centres ? "between grain centres (eqs 26-30)"
                                                         : "between nodes (eqs 21-25)");
+  if (settings_.global_damping > 0) os << "; global viscous damping " << settings_.global_damping << " 1/s";
   return os.str();
 }
 

@@ -47,6 +47,9 @@ struct PeridemSettings {
   // nodes. Not kept in checkpoints (a restart passes its settings again).
   bool damping_centre_node = false;
   double skin = 0;  // Verlet skin of the contact list; 0 = the contact radius R_c
+  // Global viscous damping rate c (1/s): F -= c m v on every particle node, to bring a pack to rest before
+  // it is loaded (a settle stage); 0 (the paper's runs) = none. Not in the paper's model.
+  double global_damping = 0;
 };
 
 /// Wall-clock seconds spent in each pass since the start (or the restart).
@@ -153,6 +156,9 @@ class PeridemSimulation {
   /// into the grains would throw them out at once.
   void move_wall(int g, Vec3 d);
   void set_gravity(Vec3 g);
+  /// Global viscous damping rate c (1/s) from now on, 0 to end it. InputError ("global_damping") unless
+  /// 0 <= c and c dt < 1 (above that the explicit drag would reverse a node's velocity in one step).
+  void set_global_damping(double c);
   /// Rebuilds the contact list and re-evaluates this step's forces for the state as edited.
   void recompute_forces();
 

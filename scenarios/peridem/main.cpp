@@ -194,6 +194,10 @@ class PeridemRunModel final : public RunModel {
       sim_.set_gravity(*c.gravity);
       os << "gravity (" << c.gravity->x << ", " << c.gravity->y << ", " << c.gravity->z << ") m/s^2; ";
     }
+    if (c.global_damping) {
+      sim_.set_global_damping(*c.global_damping);
+      os << "global damping " << *c.global_damping << " 1/s; ";
+    }
     for (const PeridemStageChanges::WallChange& w : c.walls) {
       const int g = wall_index(w);
       Vec3 d{};
