@@ -391,10 +391,17 @@ TEST(PeridemCliDefaults, DefaultInputsLoad) {
   settings_only.build_system = false;
   for (const char* f : {"two_particle.yaml", "impact_wall_m1.yaml", "impact_wall_m2_top.yaml", "compressive_small.yaml",
                         "compressive_n500.yaml", "noncircular_concave.yaml", "noncircular_hexagon.yaml",
-                        "noncircular_wall.yaml"}) {
+                        "noncircular_wall.yaml", "compression_small.yaml", "compression_small_authors.yaml",
+                        "compression_n500.yaml", "compression_n500_authors.yaml"}) {
     SCOPED_TRACE(f);
     EXPECT_NO_THROW(debris::read_peridem_input(src + f, settings_only));
   }
+  // The full compression: free fall, a damped settle, then the press with the damping off.
+  const debris::PeridemRunConfig staged = debris::read_peridem_input(src + "compression_n500.yaml", settings_only);
+  ASSERT_EQ(staged.stage_changes.size(), 3u);
+  EXPECT_FALSE(staged.stage_changes[0].global_damping.has_value());
+  EXPECT_EQ(staged.stage_changes[1].global_damping, 200.0);
+  EXPECT_EQ(staged.stage_changes[2].global_damping, 0.0);
   debris::PeridemInputOptions build;
   build.output_directory = d.string();
   const debris::PeridemRunConfig n500 = debris::read_peridem_input(src + "compressive_n500.yaml", build);

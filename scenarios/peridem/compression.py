@@ -1,13 +1,19 @@
 #!/usr/bin/python3
 """compression.csv, the pressure plot and the damage pictures of a debris_peridem compression run.
 
-    /usr/bin/python3 scenarios/peridem/compression.py OUT_DIR [--press-start 0.12] [--lid-speed 0.06]
-        [--lid-length 68.94e-3] [--window 1e-3] [--marks 0.162,0.178,0.186,0.194] [--pictures DIR]
+    /usr/bin/python3 scenarios/peridem/compression.py OUT_DIR [--press-start 0.12] [--time-offset -0.06]
+        [--lid-speed 0.06] [--lid-length 68.94e-3] [--window 1e-3] [--marks 0.102,0.118,0.126,0.134]
+        [--pictures DIR]
 
 OUT_DIR is the run's output directory (thermo.csv, trajectory.h5). Defaults are those of
-compression_n500.yaml (paper B, section 4.4): the lid is placed at t = 0.12 s (the paper: 0.06 s; the deck
-settles 0.06 s longer) and moves down at 0.06 m/s; the lid is 68.94 mm long; the paper's t1-t4 (0.102,
-0.118, 0.126, 0.134 s) are marked at the same times after the lid was placed.
+compression_n500.yaml (paper B, section 4.4): the lid is placed at run time 0.12 s with its lower edge at
+31.2 mm and moves down at 0.06 m/s (the paper places it at 0.06 s: the deck settles 0.06 s longer, so the
+paper's time is the run's - 0.06 s); the lid is 68.94 mm long; the paper's t1-t4 are marked.
+
+A run that starts from a settled pack (compression_n500_press.yaml) places its lid lower, at y0, at its
+t = 0: the lid would have been at 31.2 mm at the run time --press-start = -(31.2 mm - y0) / 0.06 m/s, and
+the run's t is the paper's t - --time-offset, with --time-offset = 0.06 s - press start. Times printed,
+plotted and marked are the paper's (run time + offset); lid travel is counted from 31.2 mm.
 
 compression.csv, one row per thermo row from the press on:
   time (s), lid_travel (m): how far the lid has gone down since it was placed,
@@ -48,12 +54,14 @@ def centred_mean(t, v, window):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("out_dir")
-    ap.add_argument("--press-start", type=float, default=0.12, help="time the lid is placed and set moving (s)")
+    ap.add_argument("--press-start", type=float, default=0.12,
+                    help="run time at which the lid is (or would be) at its paper place, 31.2 mm (s)")
+    ap.add_argument("--time-offset", type=float, default=-0.06, help="the paper's time less the run's (s)")
     ap.add_argument("--lid-speed", type=float, default=0.06, help="lid speed (m/s)")
     ap.add_argument("--lid-length", type=float, default=68.94e-3, help="lid length (m)")
     ap.add_argument("--lid", default="lid", help="the lid's wall name (thermo columns <lid>_fy)")
     ap.add_argument("--window", type=float, default=1e-3, help="averaging window (s)")
-    ap.add_argument("--marks", default="0.162,0.178,0.186,0.194", help="times to mark and picture (s)")
+    ap.add_argument("--marks", default="0.102,0.118,0.126,0.134", help="paper times to mark and picture (s)")
     ap.add_argument("--pictures", default=None, help="where the PNGs go (default: OUT_DIR)")
     args = ap.parse_args()
 
@@ -62,9 +70,11 @@ def main():
     if col not in th:
         sys.exit("compression.py: thermo.csv has no column %s" % col)
     keep = th["time"] >= args.press_start - 1e-12
-    t = th["time"][keep]
+    run_t = th["time"][keep]
+    t = run_t + args.time_offset  # the paper's time axis
+    press_start = args.press_start + args.time_offset
     force = th[col][keep]
-    travel = args.lid_speed * (t - args.press_start)
+    travel = args.lid_speed * (t - press_start)
     pressure = force / args.lid_length
     force_avg = centred_mean(t, force, args.window)
     pressure_avg = force_avg / args.lid_length
@@ -91,10 +101,10 @@ def main():
     ax.plot(1e3 * travel, 1e-3 * pressure_avg, color="C0", lw=1.5, label="averaged over %.3g ms" % (1e3 * args.window))
     for k, m in enumerate(marks):
         if t.size and t[0] <= m <= t[-1]:
-            ax.axvline(1e3 * args.lid_speed * (m - args.press_start), color="C3", lw=0.8, ls="--")
-            ax.text(1e3 * args.lid_speed * (m - args.press_start), ax.get_ylim()[1] * 0.95, " t%d" % (k + 1),
+            ax.axvline(1e3 * args.lid_speed * (m - press_start), color="C3", lw=0.8, ls="--")
+            ax.text(1e3 * args.lid_speed * (m - press_start), ax.get_ylim()[1] * 0.95, " t%d" % (k + 1),
                     color="C3", va="top")
-    ax.set_xlabel("lid travel since placed (mm)")
+    ax.set_xlabel("lid travel from its paper place (mm)")
     ax.set_ylabel("lid pressure (kPa, force per m of thickness / lid length)")
     ax2 = ax.twinx()
     ax2.plot(1e3 * travel, broken, color="C1", lw=1.0)
@@ -110,7 +120,8 @@ def main():
         from damage_picture import damage_pictures
 
         labels = ["t%d = %.4g s" % (k + 1, m) for k, m in enumerate(marks)]
-        for png in damage_pictures(args.out_dir, marks, "compression_damage_t", pic_dir, labels):
+        run_marks = [m - args.time_offset for m in marks]
+        for png in damage_pictures(args.out_dir, run_marks, "compression_damage_t", pic_dir, labels):
             print("wrote " + png)
     return 0
 
