@@ -2,10 +2,13 @@
 """A settled pack as a PeriDEM particle list: each grain's rigid pose in a trajectory frame, as a new CSV.
 
     /usr/bin/python3 scenarios/peridem/settled_pack.py TRAJECTORY.h5 PARTICLES.csv OUT.csv [--frame K]
+        [--reference FIRST_TRAJECTORY.h5]
 
 PARTICLES.csv is the particle list the run started from (PeriDEM's i, x, y, z, r, o: zone, centre, radius,
 rotation about z), so that grain k of the run is its row k. Each grain's pose in frame K (default: the last)
-is the rigid motion that best maps its nodes in frame 0 onto frame K (2D Kabsch, volume-weighted): the
+is the rigid motion that best maps its nodes as placed at step 0 onto frame K (2D Kabsch, volume-weighted;
+the placement is frame 0 of --reference, by default of TRAJECTORY.h5: a run continued with --restart writes
+trajectory.restart<step>.h5, whose frame 0 is the restart, so give the first chunk's trajectory.h5): the
 rotation dtheta and the new centre follow, and OUT.csv holds the same rows with centre and rotation moved
 (o + dtheta), the zone and radius kept. A run started from OUT.csv places each grain, undeformed and at rest,
 where the frame had it: a long settle is run once and its pack reused by the runs that load it.
@@ -37,6 +40,7 @@ def main():
     ap.add_argument("particles")
     ap.add_argument("out")
     ap.add_argument("--frame", type=int, default=-1, help="frame index (default: the last)")
+    ap.add_argument("--reference", default=None, help="trajectory whose frame 0 is the run's step 0")
     args = ap.parse_args()
 
     import h5py
@@ -47,10 +51,17 @@ def main():
         grain = f["nodes/grain"][:]
         volume = f["nodes/volume"][:]
         kind = f["grains/kind"][:]
-        ref = f["frames/%s/position" % frames[0]][:, :2]
         pos = f["frames/%s/position" % k][:, :2]
         vel = f["frames/%s/velocity" % k][:, :2]
         time = f["frames/%s" % k].attrs.get("time", float("nan"))
+    with h5py.File(args.reference or args.trajectory, "r", locking=False) as f:
+        first = sorted(f["frames"].keys(), key=int)[0]
+        if f["frames/%s" % first].attrs.get("step", 0) != 0:
+            sys.exit("settled_pack.py: frame 0 of %s is not step 0: give the first chunk's trajectory as --reference"
+                     % (args.reference or args.trajectory))
+        if not np.array_equal(f["nodes/grain"][:], grain):
+            sys.exit("settled_pack.py: the reference trajectory holds other nodes")
+        ref = f["frames/%s/position" % first][:, :2]
     rows = read_particles(args.particles)
     particles = [g for g in range(len(kind)) if kind[g] == 0]
     if len(particles) != len(rows):
