@@ -2,10 +2,11 @@
 """A settled pack as a PeriDEM particle list: each grain's rigid pose in a trajectory frame, as a new CSV.
 
     /usr/bin/python3 scenarios/peridem/settled_pack.py TRAJECTORY.h5 PARTICLES.csv OUT.csv [--frame K]
-        [--reference FIRST_TRAJECTORY.h5]
+        [--reference FIRST_TRAJECTORY.h5] [--shrink EPS] [--clear-walls R_C]
 
 PARTICLES.csv is the particle list the run started from (PeriDEM's i, x, y, z, r, o: zone, centre, radius,
-rotation about z), so that grain k of the run is its row k. Each grain's pose in frame K (default: the last)
+rotation about z). Grains are made zone by zone, file order within a zone (core/grain_placement.hpp), and
+OUT.csv keeps the rows in PARTICLES.csv's order. Each grain's pose in frame K (default: the last)
 is the rigid motion that best maps its nodes as placed at step 0 onto frame K (2D Kabsch, volume-weighted;
 the placement is frame 0 of --reference, by default of TRAJECTORY.h5: a run continued with --restart writes
 trajectory.restart<step>.h5, whose frame 0 is the restart, so give the first chunk's trajectory.h5): the
@@ -13,10 +14,22 @@ rotation dtheta and the new centre follow, and OUT.csv holds the same rows with 
 (o + dtheta), the zone and radius kept. A run started from OUT.csv places each grain, undeformed and at rest,
 where the frame had it: a long settle is run once and its pack reused by the runs that load it.
 
+A pack at rest is held by its grains' elastic deformation, which a rigid pose drops: placed rigidly, the
+grains of a settled pack overlap where they had flattened against each other (up to 0.3 um of 1 mm grains
+with the paper's contact stiffness), and those overlaps throw the pack apart (measured on the 502-grain pack:
+0.015 J/m of contact energy at once, a bond broken within 200 steps). --shrink EPS makes every grain smaller
+by the fraction EPS about its centroid (radius r (1 - EPS), more digits written), which opens each contact by
+about 2 EPS r: with EPS = 1e-3, 2 um, and the pack settles back by gravity from there.
+
+A grain resting on a wall is within the contact radius R_c of it, and debris_peridem refuses a grain placed
+that close to a wall (it would be thrown out of a wall it had been placed into). --clear-walls R_C moves each
+such grain straight away from the wall nodes it is near, by the little it needs (its deepest contact, a few
+um at rest, plus 1 um), so the pack can be loaded: it then settles back onto the wall from that height.
+
 It prints what a user must know before reusing the pack: the frame's time, the grains' largest departure
 from a rigid motion (their elastic strain is dropped), the mean and largest grain speed (dropped too), and
 the top of the pack (the highest particle node), under which a lid must not be placed.
-Needs numpy and h5py (Debian: python3-numpy python3-h5py). 2D runs only (rotation about z).
+Needs numpy and h5py, and scipy for --clear-walls (Debian: python3-numpy python3-h5py python3-scipy). 2D runs only (rotation about z).
 """
 import argparse
 import csv
@@ -34,6 +47,26 @@ def read_particles(path):
     return [[float(x) for x in r[:6]] for r in rows[1:] if r]
 
 
+def wall_clearance(nodes, walls, rc):
+    """The shift that takes a grain's nodes (the rigidly placed ones) to at least rc + 1 um from every wall
+    node: straight away from the nodes it is near, grown until clear."""
+    from scipy.spatial import cKDTree
+
+    tree = cKDTree(walls)
+    need = rc + 1e-6
+    shift = np.zeros(2)
+    for _ in range(200):
+        d, j = tree.query(nodes + shift)
+        close = d < need
+        if not close.any():
+            return shift
+        away = (nodes + shift)[close] - walls[j[close]]
+        direction = away.sum(axis=0)
+        direction /= np.linalg.norm(direction)
+        shift = shift + direction * (need - d[close].min())
+    sys.exit("settled_pack.py: a grain cannot be moved clear of the walls (%.3g m short after %s)" % (need - d[close].min(), shift))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("trajectory")
@@ -41,13 +74,17 @@ def main():
     ap.add_argument("out")
     ap.add_argument("--frame", type=int, default=-1, help="frame index (default: the last)")
     ap.add_argument("--reference", default=None, help="trajectory whose frame 0 is the run's step 0")
+    ap.add_argument("--shrink", type=float, default=0.0, metavar="EPS",
+                    help="make each grain smaller by this fraction about its centroid (e.g. 1e-3)")
+    ap.add_argument("--clear-walls", type=float, default=0.0, metavar="R_C",
+                    help="move grains within this contact radius (m) of a wall node clear of it")
     args = ap.parse_args()
 
     import h5py
 
     with h5py.File(args.trajectory, "r", locking=False) as f:
         frames = sorted(f["frames"].keys(), key=int)
-        k = frames[args.frame]
+        frame = k = frames[args.frame]
         grain = f["nodes/grain"][:]
         volume = f["nodes/volume"][:]
         kind = f["grains/kind"][:]
@@ -68,10 +105,18 @@ def main():
         sys.exit("settled_pack.py: the trajectory has %d particle grains, %s has %d rows"
                  % (len(particles), args.particles, len(rows)))
 
+    walls = pos[kind[grain] != 0]
+    moved = []
     order = np.argsort(grain, kind="stable")
     bounds = np.searchsorted(grain[order], np.arange(len(kind) + 1))
     out, worst, speeds = [], 0.0, []
-    for g, row in zip(particles, rows):
+    # Grain k of the run is the k-th row in zone order (stable within a zone).
+    by_zone = sorted(range(len(rows)), key=lambda r: int(rows[r][0]))
+    grain_of_row = [0] * len(rows)
+    for k, r in enumerate(by_zone):
+        grain_of_row[r] = particles[k]
+    for r, row in enumerate(rows):
+        g = grain_of_row[r]
         idx = order[bounds[g]:bounds[g + 1]]
         w = volume[idx] / volume[idx].sum()
         p0, p1 = ref[idx], pos[idx]
@@ -83,18 +128,29 @@ def main():
         worst = max(worst, np.max(np.linalg.norm(b - a @ rot.T, axis=1)) / row[4])
         # The grain's placement centre (the mesh origin) moves with the same rigid motion.
         centre = c1 + rot @ (np.array(row[1:3]) - c0)
-        out.append([int(row[0]), centre[0], centre[1], row[3], row[4], row[5] + dtheta])
+        # Shrunk about the centroid c1: nodes c1 + (1 - eps) (placed - c1).
+        centre = c1 + (1.0 - args.shrink) * (centre - c1)
+        placed = c1 + (1.0 - args.shrink) * (a @ rot.T)
+        shift = np.zeros(2)
+        if args.clear_walls > 0:
+            shift = wall_clearance(placed, walls, args.clear_walls)
+            moved.append(np.linalg.norm(shift))
+        out.append([int(row[0]), centre[0] + shift[0], centre[1] + shift[1], row[3], row[4] * (1.0 - args.shrink),
+                    row[5] + dtheta])
         speeds.append(np.linalg.norm(w @ vel[idx]))
     with open(args.out, "w", newline="") as f:
         f.write("i, x, y, z, r, o\n")
         for r in out:
-            f.write("%d, %.9f, %.9f, %.6f, %.6f, %.6f\n" % tuple(r))
+            f.write("%d, %.9f, %.9f, %.6f, %.12f, %.9f\n" % tuple(r))
 
     is_particle = kind[grain] == 0
     top = pos[is_particle, 1].max()
-    print("frame %s (t = %.6g s): %d grains written to %s" % (k, time, len(out), args.out))
+    print("frame %s (t = %.6g s): %d grains written to %s" % (frame, time, len(out), args.out))
     print("largest departure from a rigid motion: %.3g of a grain's radius" % worst)
     print("grain speed: mean %.3g m/s, largest %.3g m/s" % (np.mean(speeds), np.max(speeds)))
+    if args.clear_walls > 0:
+        n = sum(1 for m in moved if m > 0)
+        print("moved clear of the walls: %d grains, at most %.3g m" % (n, max(moved) if moved else 0.0))
     print("top of the pack (highest particle node): y = %.6g m" % top)
 
 
