@@ -392,7 +392,8 @@ TEST(PeridemCliDefaults, DefaultInputsLoad) {
   for (const char* f : {"two_particle.yaml", "impact_wall_m1.yaml", "impact_wall_m2_top.yaml", "compressive_small.yaml",
                         "compressive_n500.yaml", "noncircular_concave.yaml", "noncircular_hexagon.yaml",
                         "noncircular_wall.yaml", "compression_small.yaml", "compression_small_authors.yaml",
-                        "compression_n500.yaml", "compression_n500_authors.yaml"}) {
+                        "compression_n500.yaml", "compression_n500_authors.yaml",
+                        "compression_n500_from_pack.yaml"}) {
     SCOPED_TRACE(f);
     EXPECT_NO_THROW(debris::read_peridem_input(src + f, settings_only));
   }
