@@ -308,9 +308,7 @@ PeridemStageChanges read_stage_changes(const InputNode& st, const std::vector<Wa
   if (st.has("gravity")) c.gravity = planar(st, "gravity", u::acceleration, Vec3{}, dim);
   if (st.has("global_damping")) {
     c.global_damping = st.quantity("global_damping", u::frequency);
-    if (!(*c.global_damping >= 0) || !(*c.global_damping * dt < 1))
-      throw input_error(st.path() + ".global_damping", format_value(*c.global_damping),
-                        "must be a rate >= 0 with rate * run.time_step < 1, e.g. '100 s^-1' (0 ends the damping)");
+    PeridemSimulation::check_global_damping(*c.global_damping, dt, st.path() + ".global_damping");
   }
   if (!st.has("walls")) return c;
   for (const InputNode& w : st.list("walls")) {
@@ -513,9 +511,7 @@ PeridemRunConfig read_peridem_input(const InputNode& root, const std::string& ba
     throw input_error("run.skin", format_value(cfg.settings.skin), "must be >= 0 (0: R_c)");
   cfg.settings.allow_unstable_time_step = run.boolean("allow_unstable_time_step", false);
   cfg.settings.global_damping = run.quantity("global_damping", u::frequency, 0.0);
-  if (!(cfg.settings.global_damping >= 0) || !(cfg.settings.global_damping * cfg.settings.time_step < 1))
-    throw input_error("run.global_damping", format_value(cfg.settings.global_damping),
-                      "must be a rate >= 0 with rate * run.time_step < 1, e.g. '100 s^-1' (0: none)");
+  PeridemSimulation::check_global_damping(cfg.settings.global_damping, cfg.settings.time_step, "run.global_damping");
   cfg.penetration_limit = run.quantity("penetration_limit", u::dimensionless, cfg.penetration_limit);
   if (!(cfg.penetration_limit > 0 && cfg.penetration_limit <= 1))
     throw input_error("run.penetration_limit", format_value(cfg.penetration_limit),

@@ -125,9 +125,7 @@ PeridemSimulation::PeridemSimulation(PdNodes nodes, PdGrains grains, std::vector
   if (!(settings_.time_step > 0) || !std::isfinite(settings_.time_step))
     throw input_error("run.time_step", format_value(settings_.time_step), "must be > 0");
   if (!(settings_.skin >= 0)) throw input_error("run.skin", format_value(settings_.skin), "must be >= 0");
-  if (!(settings_.global_damping >= 0) || !(settings_.global_damping * settings_.time_step < 1))
-    throw input_error("run.global_damping", format_value(settings_.global_damping),
-                      "must be a rate >= 0 (1/s) with rate * time_step < 1");
+  check_global_damping(settings_.global_damping, settings_.time_step, "run.global_damping");
   lps_.clear();
   for (std::size_t m = 0; m < materials_.size(); ++m) {
     const std::string prefix = "materials[" + std::to_string(m) + "]";
@@ -481,11 +479,15 @@ void PeridemSimulation::move_wall(int g, Vec3 d) {
 
 void PeridemSimulation::set_gravity(Vec3 g) { settings_.gravity = g; }
 
+void PeridemSimulation::check_global_damping(double c, double dt, const std::string& key) {
+  if (!(c >= 0) || !(c * dt < 1))
+    throw input_error(key, format_value(c),
+                      "must be a rate >= 0 with rate * run.time_step < 1 (time step " + format_value(dt) +
+                          " s), e.g. '100 s^-1' (0: none)");
+}
+
 void PeridemSimulation::set_global_damping(double c) {
-  if (!(c >= 0) || !(c * settings_.time_step < 1))
-    throw input_error("global_damping", format_value(c),
-                      "must be a rate >= 0 (1/s) with rate * time_step < 1 (time step " +
-                          format_value(settings_.time_step) + " s)");
+  check_global_damping(c, settings_.time_step, "global_damping");
   settings_.global_damping = c;
 }
 

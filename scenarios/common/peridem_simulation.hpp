@@ -157,8 +157,11 @@ class PeridemSimulation {
   void move_wall(int g, Vec3 d);
   void set_gravity(Vec3 g);
   /// Global viscous damping rate c (1/s) from now on, 0 to end it. InputError ("global_damping") unless
-  /// 0 <= c and c dt < 1 (above that the explicit drag would reverse a node's velocity in one step).
+  /// check_global_damping accepts it.
   void set_global_damping(double c);
+  /// InputError naming `key` unless 0 <= c and c dt < 1 (above that the explicit drag would reverse a
+  /// node's velocity in one step). The one check of every place a rate is given (input, stage, setter).
+  static void check_global_damping(double c, double dt, const std::string& key);
   /// Rebuilds the contact list and re-evaluates this step's forces for the state as edited.
   void recompute_forces();
 
