@@ -393,7 +393,7 @@ TEST(PeridemCliDefaults, DefaultInputsLoad) {
                         "compressive_n500.yaml", "noncircular_concave.yaml", "noncircular_hexagon.yaml",
                         "noncircular_wall.yaml", "compression_small.yaml", "compression_small_authors.yaml",
                         "compression_n500.yaml", "compression_n500_authors.yaml",
-                        "compression_n500_from_pack.yaml"}) {
+                        "compression_n500_from_pack.yaml", "compression_n500_authors_from_pack.yaml"}) {
     SCOPED_TRACE(f);
     EXPECT_NO_THROW(debris::read_peridem_input(src + f, settings_only));
   }
