@@ -10,10 +10,11 @@ compression_n500.yaml (paper B, section 4.4): the lid is placed at run time 0.12
 31.2 mm and moves down at 0.06 m/s (the paper places it at 0.06 s: the deck settles 0.06 s longer, so the
 paper's time is the run's - 0.06 s); the lid is 68.94 mm long; the paper's t1-t4 are marked.
 
-A run that starts from a settled pack (compression_n500_press.yaml) places its lid lower, at y0, at its
-t = 0: the lid would have been at 31.2 mm at the run time --press-start = -(31.2 mm - y0) / 0.06 m/s, and
-the run's t is the paper's t - --time-offset, with --time-offset = 0.06 s - press start. Times printed,
-plotted and marked are the paper's (run time + offset); lid travel is counted from 31.2 mm.
+A run that starts from a settled pack (compression_n500_from_pack.yaml) places its lid lower, at y0, at its
+run time t_p (there 30.6 mm at 0.02 s): the lid would have been at 31.2 mm at the run time --press-start =
+t_p - (31.2 mm - y0) / 0.06 m/s (there 0.01 s). With --time-offset = 0.06 s - press start (there 0.05 s) the
+lid is where the paper's is at every time printed, plotted and marked, which are the paper's (run time +
+offset); lid travel is counted from 31.2 mm.
 
 compression.csv, one row per thermo row from the press on:
   time (s), lid_travel (m): how far the lid has gone down since it was placed,
@@ -21,8 +22,9 @@ compression.csv, one row per thermo row from the press on:
     thickness (node volumes are areas), so this is a force per unit length of the out-of-plane axis,
   lid_pressure (Pa): lid_force / lid length, the mean normal stress under the lid,
   lid_force_avg, lid_pressure_avg: the same averaged over the window (centred, --window seconds; the
-    instantaneous force of a pack of bouncing grains is noise, the paper averages too),
-  broken_bonds, max_damage (Z of eq 14).
+    instantaneous force of a pack of bouncing grains is noise, the paper averages too, over three windows),
+  broken_bonds, max_damage (Z of eq 14),
+  lid_pressure_avg_<W>ms: the pressure averaged over each further window when --window lists several.
 Pictures (PNG, headless): pressure against lid travel with the marks, and the pack coloured by damage at the
 frames nearest to each mark. Needs numpy, matplotlib and h5py (Debian: python3-numpy python3-matplotlib
 python3-h5py).
@@ -60,7 +62,8 @@ def main():
     ap.add_argument("--lid-speed", type=float, default=0.06, help="lid speed (m/s)")
     ap.add_argument("--lid-length", type=float, default=68.94e-3, help="lid length (m)")
     ap.add_argument("--lid", default="lid", help="the lid's wall name (thermo columns <lid>_fy)")
-    ap.add_argument("--window", type=float, default=1e-3, help="averaging window (s)")
+    ap.add_argument("--window", default="1e-3",
+                    help="averaging window(s) (s), comma-separated; the paper averages over three")
     ap.add_argument("--marks", default="0.102,0.118,0.126,0.134", help="paper times to mark and picture (s)")
     ap.add_argument("--pictures", default=None, help="where the PNGs go (default: OUT_DIR)")
     args = ap.parse_args()
@@ -76,7 +79,9 @@ def main():
     force = th[col][keep]
     travel = args.lid_speed * (t - press_start)
     pressure = force / args.lid_length
-    force_avg = centred_mean(t, force, args.window)
+    windows = [float(x) for x in args.window.split(",") if x]
+    force_avgs = [centred_mean(t, force, w) for w in windows]
+    force_avg = force_avgs[0]
     pressure_avg = force_avg / args.lid_length
     broken = th["broken_bonds"][keep]
     damage = th["max_damage"][keep]
@@ -84,9 +89,10 @@ def main():
     with open(out_csv, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["time", "lid_travel", "lid_force", "lid_pressure", "lid_force_avg", "lid_pressure_avg",
-                    "broken_bonds", "max_damage"])
-        for row in zip(t, travel, force, pressure, force_avg, pressure_avg, broken, damage):
-            w.writerow(["%.9g" % x for x in row])
+                    "broken_bonds", "max_damage"] + ["lid_pressure_avg_%gms" % (1e3 * x) for x in windows[1:]])
+        for k, row in enumerate(zip(t, travel, force, pressure, force_avg, pressure_avg, broken, damage)):
+            more = [fa[k] / args.lid_length for fa in force_avgs[1:]]
+            w.writerow(["%.9g" % x for x in list(row) + more])
     print("wrote %s (%d rows, t = %.4g to %.4g s)" % (out_csv, len(t), t[0] if len(t) else 0, t[-1] if len(t) else 0))
 
     import matplotlib
@@ -98,14 +104,16 @@ def main():
     marks = [float(x) for x in args.marks.split(",") if x]
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.plot(1e3 * travel, 1e-3 * pressure, color="0.8", lw=0.5, label="instantaneous")
-    ax.plot(1e3 * travel, 1e-3 * pressure_avg, color="C0", lw=1.5, label="averaged over %.3g ms" % (1e3 * args.window))
+    for k, (w_s, fa) in enumerate(zip(windows, force_avgs)):
+        ax.plot(1e3 * travel, 1e-3 * fa / args.lid_length, color=("C0", "C2", "C4", "C5")[k % 4], lw=1.5 if k == 0 else 1.0,
+                label="averaged over %.3g ms" % (1e3 * w_s))
     for k, m in enumerate(marks):
         if t.size and t[0] <= m <= t[-1]:
             ax.axvline(1e3 * args.lid_speed * (m - press_start), color="C3", lw=0.8, ls="--")
             ax.text(1e3 * args.lid_speed * (m - press_start), ax.get_ylim()[1] * 0.95, " t%d" % (k + 1),
                     color="C3", va="top")
     ax.set_xlabel("lid travel from its paper place (mm)")
-    ax.set_ylabel("lid pressure (kPa, force per m of thickness / lid length)")
+    ax.set_ylabel("lid pressure (kPa: force per m / lid length)")
     ax2 = ax.twinx()
     ax2.plot(1e3 * travel, broken, color="C1", lw=1.0)
     ax2.set_ylabel("broken bonds", color="C1")

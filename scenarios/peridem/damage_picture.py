@@ -4,11 +4,13 @@
     /usr/bin/python3 scenarios/peridem/damage_picture.py OUT_DIR TIME [TIME ...] [--prefix damage] [--to DIR]
         [--zoom=x0,x1,y0,y1 (mm)] [--vmax Z]
 
-One PNG per time, from the frame of OUT_DIR/trajectory.h5 nearest to it (skipped when none lies within
+One PNG per time, from the frame of OUT_DIR/trajectory.h5 (and of its restarted chunks,
+trajectory.restart*.h5) nearest to it (skipped when none lies within
 1.5 frame intervals). Walls grey. --vmax sets the top of the colour scale (default 1: Z >= 1, a broken
 bond in the neighbourhood, is red; paper B's Fig 21 uses 2). Write --zoom with '=' when x0 is negative. Needs numpy, matplotlib and h5py (Debian: python3-h5py).
 """
 import argparse
+import glob
 import os
 import sys
 
@@ -22,18 +24,27 @@ def damage_pictures(out_dir, times, prefix, to_dir, labels=None, zoom=None, vmax
     import matplotlib.pyplot as plt
 
     written = []
-    with h5py.File(os.path.join(out_dir, "trajectory.h5"), "r") as f:
+    # A run continued with --restart writes its frames to trajectory.restart<STEP>.h5 beside trajectory.h5:
+    # take the frames of every chunk (a frame written twice, at a restart step, once).
+    paths = [os.path.join(out_dir, "trajectory.h5")] + sorted(glob.glob(os.path.join(out_dir, "trajectory.restart*.h5")))
+    files = [h5py.File(p, "r") for p in paths if os.path.exists(p)]
+    try:
+        f = files[0]
         kind = f["grains/kind"][:]
         wall = kind[f["nodes/grain"][:]] == 1
-        frames = sorted(((f["frames/" + k].attrs["time"], k) for k in f["frames"]), key=lambda p: p[0])
+        by_time = {}
+        for g in files:
+            for k in g["frames"]:
+                by_time.setdefault(float(g["frames/" + k].attrs["time"]), g["frames/" + k])
+        frames = sorted(by_time.items(), key=lambda p: p[0])
         t = np.array([p[0] for p in frames])
         interval = np.median(np.diff(t)) if len(t) > 1 else 0.0
         for k, m in enumerate(times):
             j = int(np.argmin(np.abs(t - m)))
             if abs(t[j] - m) > 1.5 * interval + 1e-12:
                 continue  # the run has not reached it
-            pos = 1e3 * f["frames/%s/position" % frames[j][1]][:]
-            dmg = np.minimum(f["frames/%s/damage" % frames[j][1]][:], vmax)
+            pos = 1e3 * frames[j][1]["position"][:]
+            dmg = np.minimum(frames[j][1]["damage"][:], vmax)
             fig, ax = plt.subplots(figsize=(6, 4.2))
             ax.scatter(pos[wall, 0], pos[wall, 1], s=0.5, color="0.5")
             sc = ax.scatter(pos[~wall, 0], pos[~wall, 1], s=0.5 if len(pos) > 5000 else 4, c=dmg[~wall], cmap="jet",
@@ -52,6 +63,9 @@ def damage_pictures(out_dir, times, prefix, to_dir, labels=None, zoom=None, vmax
             fig.savefig(png, dpi=110)
             plt.close(fig)
             written.append(png)
+    finally:
+        for g in files:
+            g.close()
     return written
 
 
