@@ -3,7 +3,7 @@
 
     /usr/bin/python3 scenarios/peridem/compression.py OUT_DIR [--press-start 0.12] [--time-offset -0.06]
         [--lid-speed 0.06] [--lid-length 68.94e-3] [--window 1e-3] [--marks 0.102,0.118,0.126,0.134]
-        [--pictures DIR]
+        [--zoom=x0,x1,y0,y1] [--pictures DIR]
 
 OUT_DIR is the run's output directory (thermo.csv, trajectory.h5). Defaults are those of
 compression_n500.yaml (paper B, section 4.4): the lid is placed at run time 0.12 s with its lower edge at
@@ -65,6 +65,7 @@ def main():
     ap.add_argument("--window", default="1e-3",
                     help="averaging window(s) (s), comma-separated; the paper averages over three")
     ap.add_argument("--marks", default="0.102,0.118,0.126,0.134", help="paper times to mark and picture (s)")
+    ap.add_argument("--zoom", default=None, help="x0,x1,y0,y1 (mm) of the damage pictures (default: everything)")
     ap.add_argument("--pictures", default=None, help="where the PNGs go (default: OUT_DIR)")
     args = ap.parse_args()
 
@@ -129,7 +130,8 @@ def main():
 
         labels = ["t%d = %.4g s" % (k + 1, m) for k, m in enumerate(marks)]
         run_marks = [m - args.time_offset for m in marks]
-        for png in damage_pictures(args.out_dir, run_marks, "compression_damage_t", pic_dir, labels):
+        zoom = [float(x) for x in args.zoom.split(",")] if args.zoom else None
+        for png in damage_pictures(args.out_dir, run_marks, "compression_damage_t", pic_dir, labels, zoom):
             print("wrote " + png)
     return 0
 
