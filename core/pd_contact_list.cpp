@@ -241,6 +241,15 @@ void PdContactList::build(const PdNodes& nodes, const PdGrains& grains, const Bo
     by[i] = y[i];
     bz[i] = z[i];
   }
+  // Every bond broken now is in the rows where within reach: add_broken_bonds starts from here.
+  handled_.resize(bonds.broken.size());
+  if (!handled_.empty()) {
+    const int entries_b = static_cast<int>(handled_.size());
+    unsigned char* __restrict seen = handled_.data();
+    DEBRIS_RESIDENT(b_broken, seen);
+    DEBRIS_KERNEL
+    for (int k = 0; k < entries_b; ++k) seen[k] = b_broken[k];
+  }
   rows_ = n;
   cutoff_ = cutoff;
   skin_ = skin;
@@ -323,7 +332,7 @@ void PdContactList::to_host() const {
 
 long PdContactList::add_broken_bonds(const BondList& bonds) {
   if (!built_ || bonds.offset.empty()) return 0;
-  if (bonds.nodes() != static_cast<std::size_t>(rows_))
+  if (bonds.nodes() != static_cast<std::size_t>(rows_) || bonds.broken.size() != handled_.size())
     throw std::invalid_argument("pd_contact_list: the bond list does not match the list's rows");
   const int n = rows_;
   const double reach = cutoff_ + skin_, reach2 = reach * reach;
@@ -331,24 +340,30 @@ long PdContactList::add_broken_bonds(const BondList& bonds) {
   const int* __restrict b_offset = bonds.offset.data();
   const int* __restrict b_partner = bonds.partner.data();
   const unsigned char* __restrict b_broken = bonds.broken.data();
+  unsigned char* __restrict seen = handled_.data();
   const int* __restrict off = offset_.data();
   const int* __restrict idx = index_.data();
 
-  // The pairs a build would hold now and this list does not: broken bonds within reach at the build
-  // positions, not yet in the row (a bond broken before the build is in it already). Bonds join nodes of
-  // one particle grain, so may_touch holds for every broken one.
+  // The pairs a build would hold now and this list does not: bonds broken since the last look (broken, not
+  // handled) that lie within reach at the build positions. Bonds join nodes of one particle grain, so
+  // may_touch holds for every broken one. A new bond out of reach is marked handled here and never looked at
+  // again (the build positions stay until the next build); one within reach is left for the merge below,
+  // which marks it. The row search only guards the invariant: a handled-clear bond is never in its row.
+  // Each row writes the flags of its own entries only.
   added_.resize(static_cast<std::size_t>(n) + 1);
   int* __restrict add = added_.data();
-  DEBRIS_RESIDENT(x, y, z, b_offset, b_partner, b_broken, off, idx, add);
+  DEBRIS_RESIDENT(x, y, z, b_offset, b_partner, b_broken, seen, off, idx, add);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     int count = 0;
     for (int k = b_offset[i]; k < b_offset[i + 1]; ++k) {
-      if (!b_broken[k]) continue;
+      if (b_broken[k] == seen[k]) continue;  // intact, or broken and handled
       const int j = b_partner[k];
       const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
-      if (dx * dx + dy * dy + dz * dz >= reach2) continue;
-      count += !row_has(idx + off[i], idx + off[i + 1], j);
+      if (dx * dx + dy * dy + dz * dz >= reach2 || row_has(idx + off[i], idx + off[i + 1], j))
+        seen[k] = 1;
+      else
+        ++count;
     }
     add[i + 1] = count;
   }
@@ -368,20 +383,20 @@ long PdContactList::add_broken_bonds(const BondList& bonds) {
   // Merge each row with its new partners (both ascending) into the spare index array, then swap.
   spare_index_.resize(index_.size() + static_cast<std::size_t>(total));
   int* __restrict out = spare_index_.data();
-  DEBRIS_RESIDENT(x, y, z, b_offset, b_partner, b_broken, off, idx, add, out);
+  DEBRIS_RESIDENT(b_offset, b_partner, b_broken, seen, off, idx, add, out);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     const int* a = idx + off[i];
     const int* const a_end = idx + off[i + 1];
     int* o = out + off[i] + add[i];
-    for (int k = b_offset[i]; k < b_offset[i + 1]; ++k) {
-      if (!b_broken[k]) continue;
-      const int j = b_partner[k];
-      const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
-      if (dx * dx + dy * dy + dz * dz >= reach2) continue;
-      if (row_has(idx + off[i], a_end, j)) continue;
-      while (a < a_end && *a < j) *o++ = *a++;
-      *o++ = j;
+    if (add[i + 1] != add[i]) {
+      for (int k = b_offset[i]; k < b_offset[i + 1]; ++k) {
+        if (b_broken[k] == seen[k]) continue;
+        seen[k] = 1;
+        const int j = b_partner[k];
+        while (a < a_end && *a < j) *o++ = *a++;
+        *o++ = j;
+      }
     }
     while (a < a_end) *o++ = *a++;
   }
@@ -420,7 +435,7 @@ std::size_t PdContactList::bytes() const {
                            slot_partner_node_.capacity() + slot_pair_offset_.capacity() + slot_pair_i_.capacity() +
                            slot_pair_j_.capacity() + wall_slot_offset_.capacity() + wall_slot_.capacity();
   return sizeof(int) * ints + sizeof(double) * (x0_.capacity() + y0_.capacity() + z0_.capacity()) +
-         sizeof(SlotEntry) * scratch_.capacity() + cells_.bytes();
+         handled_.capacity() + sizeof(SlotEntry) * scratch_.capacity() + cells_.bytes();
 }
 
 }  // namespace debris

@@ -50,8 +50,9 @@ class PdContactList {
   /// After bonds broke: their two nodes may now touch (self-contact). Adds every broken bond that lies within
   /// cutoff + skin at the build positions and is not in the list yet, in place; the list is then exactly the
   /// one a build at those positions with the current broken flags gives (rows ascending), at a small part of
-  /// a rebuild's cost. The grain-pair slots are unchanged (self-contact pairs have none). Returns the pairs
-  /// added (entries, each pair counted from both ends).
+  /// a rebuild's cost. Only bonds broken since the build or the last call are looked at (a flag per bond
+  /// entry), so the cost does not grow with the bonds broken before. The grain-pair slots are unchanged
+  /// (self-contact pairs have none). Returns the pairs added (entries, each pair counted from both ends).
   long add_broken_bonds(const BondList& bonds);
 
   /// Transfer point (offload builds): the rows and the build positions, device -> host, for the host's
@@ -91,6 +92,9 @@ class PdContactList {
   CellList cells_;
   exec::DeviceVector<int> offset_, index_;
   exec::DeviceVector<int> added_, spare_index_;  // add_broken_bonds: new entries per row (prefix sum), merged rows
+  // Per bond entry: 1 when its bond was broken at the build or has been looked at by add_broken_bonds since.
+  // The list holds every broken bond within reach whose flag is set; a broken bond with the flag clear is new.
+  exec::DeviceVector<unsigned char> handled_;
   exec::DeviceVector<double> x0_, y0_, z0_;  // positions at the last build
   int rows_ = 0;
   double cutoff_ = 0, skin_ = 0;

@@ -605,6 +605,23 @@ TEST(PdContactList, BrokenBondsAddedInPlaceEqualAFullBuild) {
   }
   EXPECT_GT(added_in_all, 20) << "the test needs broken bonds within reach";
   EXPECT_FALSE(test::needs_rebuild(l, s.nodes)) << "an in-place update is not a rebuild";
+
+  // A build with bonds broken already starts from them: the next additions are the new bonds only.
+  const PdNodes at_rebuild = s.nodes;
+  test::build_list(l, s.nodes, s.grains, s.bonds, cutoff, skin);
+  EXPECT_EQ(test::add_broken_bonds(l, s.bonds), 0) << "the build holds every bond broken before it";
+  int broken = 0;
+  for (int i = 3; i < static_cast<int>(s.nodes.size()) && broken < 25; i += 5)
+    for (int k = s.bonds.offset[i]; k < s.bonds.offset[i + 1]; ++k)
+      if (!s.bonds.broken[static_cast<std::size_t>(k)] && k % 3 == 0) {
+        break_bond(s.bonds, i, s.bonds.partner[k]);
+        ++broken;
+      }
+  EXPECT_GT(test::add_broken_bonds(l, s.bonds), 0);
+  PdContactList fresh;
+  test::build_list(fresh, at_rebuild, s.grains, s.bonds, cutoff, skin);
+  EXPECT_EQ(l.offset(), fresh.offset());
+  EXPECT_EQ(l.index(), fresh.index());
 }
 
 TEST(PdContact, SelfContactOnlyAcrossABrokenBond) {
