@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -85,6 +86,14 @@ inline void sort_row(int* row, int count) {
     for (; b > 0 && row[b - 1] > v; --b) row[b] = row[b - 1];
     row[b] = v;
   }
+}
+
+// True when the 8 flags from a and from b are equal: one load each, not eight.
+inline int same_flags8(const unsigned char* a, const unsigned char* b) {
+  unsigned long long wa, wb;
+  std::memcpy(&wa, a, sizeof wa);
+  std::memcpy(&wb, b, sizeof wb);
+  return wa == wb;
 }
 
 // True when j is in the ascending row [first, last).
@@ -356,14 +365,21 @@ long PdContactList::add_broken_bonds(const BondList& bonds) {
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     int count = 0;
-    for (int k = b_offset[i]; k < b_offset[i + 1]; ++k) {
-      if (b_broken[k] == seen[k]) continue;  // intact, or broken and handled
-      const int j = b_partner[k];
-      const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
-      if (dx * dx + dy * dy + dz * dz >= reach2 || row_has(idx + off[i], idx + off[i + 1], j))
-        seen[k] = 1;
-      else
-        ++count;
+    const int end = b_offset[i + 1];
+    for (int k0 = b_offset[i]; k0 < end; k0 += 8) {
+      // Almost every group of 8 entries has nothing new: the flags are compared a word at a time (this scan
+      // over all entries was most of the call's time).
+      if (k0 + 8 <= end && same_flags8(b_broken + k0, seen + k0)) continue;
+      const int k1 = k0 + 8 < end ? k0 + 8 : end;
+      for (int k = k0; k < k1; ++k) {
+        if (b_broken[k] == seen[k]) continue;  // intact, or broken and handled
+        const int j = b_partner[k];
+        const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
+        if (dx * dx + dy * dy + dz * dz >= reach2 || row_has(idx + off[i], idx + off[i + 1], j))
+          seen[k] = 1;
+        else
+          ++count;
+      }
     }
     add[i + 1] = count;
   }

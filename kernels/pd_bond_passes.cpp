@@ -222,7 +222,9 @@ DEBRIS_PD_ROW_CLONES long break_and_dilate_rows(const RowInputs& in, int r0, int
     }
     const PdLpsConstants c = in.lps[in.material[in.grain[i]]];
     const double xi = x[i], yi = y[i], zi = z[i];
-    const double inv_horizon = 1.0 / c.horizon, s0 = c.critical_stretch, half_s0 = 0.5 * s0;
+    // A bond is near s_0 within 0.1 per cent of it: far above the roundings of e, s_0 x0 and e / x0, so every
+    // bond that eq 11 breaks is near, and few others go through the scalar test below.
+    const double inv_horizon = 1.0 / c.horizon, s0 = c.critical_stretch, near_s0 = 0.999 * s0;
     const double both = c.break_in_compression;  // 1: |e| is tested, not e (a factor, not a branch)
     const int in_compression = both > 0.0;
     double sum = 0.0;
@@ -242,11 +244,11 @@ DEBRIS_PD_ROW_CLONES long break_and_dilate_rows(const RowInputs& in, int r0, int
         const double e = std::sqrt(dx * dx + dy * dy + dz * dz) - x0;
         const double a = x0 * inv_horizon;
         const double J = std::max(1.0 - a, 0.0);  // lps_influence(a) for a >= 0, without a branch
-        // Near s_0 when e >= s_0 x0 / 2 (a multiplication, not the division of the stretch; rounded, e below it
-        // still means e / x0 < s_0 for certain): the factor is 2 then, else 0 (copysign, not a comparison,
+        // Near s_0 when e >= 0.999 s_0 x0 (a multiplication, not the division of the stretch; rounded, e below
+        // it still means e / x0 < s_0 for certain): the factor is 2 then, else 0 (copysign, not a comparison,
         // which the compiler would turn into a branch).
         const double probe = e + both * (std::fabs(e) - e);  // e, or |e| when compression breaks bonds too
-        near[t] = keep[t] * may_break * (1.0 + std::copysign(1.0, probe - half_s0 * x0));
+        near[t] = keep[t] * may_break * (1.0 + std::copysign(1.0, probe - near_s0 * x0));
         extension[t] = e;
         term[t] = keep[t] * lps_dilatation_term(J, x0, e, v_j);
       }
