@@ -25,6 +25,7 @@ packages=(
   gmsh                   # PeriDEM grain and wall meshes: core/shape_mesh runs the gmsh executable (tests too)
   gnuplot-nox            # the PNG plots of the patch-test and amorphous scenarios (skipped, with a note, without it)
   python3-matplotlib     # the sheared-junction pictures (scenarios/wear/plot.py)
+  python3-numpy python3-h5py  # scenarios/peridem/compression.py, damage_picture.py, settled_pack.py (and their test)
 )
 [ "$with_tests" -eq 0 ] || packages+=(python3-paraview)
 # clang-offload-packager comes from clang-tools-19; libomptarget and its x86_64 plugin from libomp-19-dev.

@@ -26,8 +26,13 @@ compression.csv, one row per thermo row from the press on:
   broken_bonds, max_damage (Z of eq 14),
   lid_pressure_avg_<W>ms: the pressure averaged over each further window when --window lists several.
 Pictures (PNG, headless): pressure against lid travel with the marks, and the pack coloured by damage at the
-frames nearest to each mark. Needs numpy, matplotlib and h5py (Debian: python3-numpy python3-matplotlib
+frames nearest to each mark, from trajectory.h5 and the trajectory.restart<step>.h5 of each --restart
+continuation (damage_picture.py). Needs numpy, matplotlib and h5py (Debian: python3-numpy python3-matplotlib
 python3-h5py).
+
+A wrong OUT_DIR (no such directory, no thermo.csv in it, no lid column) and a run that ended before the
+press started (no thermo row from --press-start on) are one line on stderr and exit status 2, with nothing
+written.
 """
 import argparse
 import csv
@@ -37,11 +42,18 @@ import sys
 import numpy as np
 
 
+def fail(message):
+    print("compression.py: " + message, file=sys.stderr)
+    sys.exit(2)
+
+
 def read_thermo(path):
     with open(path) as f:
         rows = list(csv.reader(f))
+    if not rows:
+        fail("%s is empty" % path)
     head = rows[0]
-    data = np.array([[float(x) for x in r] for r in rows[1:]])
+    data = np.array([[float(x) for x in r] for r in rows[1:]]).reshape(len(rows) - 1, len(head))
     return {name: data[:, k] for k, name in enumerate(head)}
 
 
@@ -69,11 +81,24 @@ def main():
     ap.add_argument("--pictures", default=None, help="where the PNGs go (default: OUT_DIR)")
     args = ap.parse_args()
 
-    th = read_thermo(os.path.join(args.out_dir, "thermo.csv"))
+    if not os.path.isdir(args.out_dir):
+        fail("no such output directory: %s" % args.out_dir)
+    thermo = os.path.join(args.out_dir, "thermo.csv")
+    if not os.path.isfile(thermo):
+        fail("%s has no thermo.csv (not a debris_peridem output directory?)" % args.out_dir)
+    th = read_thermo(thermo)
     col = args.lid + "_fy"
     if col not in th:
-        sys.exit("compression.py: thermo.csv has no column %s" % col)
+        fail("%s has no column %s (no wall named '%s': --lid)" % (thermo, col, args.lid))
+    for name in ("time", "broken_bonds", "max_damage"):
+        if name not in th:
+            fail("%s has no column %s (not a debris_peridem run?)" % (thermo, name))
+    if not len(th["time"]):
+        fail("%s has no rows: the run wrote none" % thermo)
     keep = th["time"] >= args.press_start - 1e-12
+    if not keep.any():
+        fail("the run ends at run time %.6g s, before the press starts at %.6g s (--press-start): too short, "
+             "nothing written" % (th["time"][-1], args.press_start))
     run_t = th["time"][keep]
     t = run_t + args.time_offset  # the paper's time axis
     press_start = args.press_start + args.time_offset

@@ -5,16 +5,30 @@
         [--zoom=x0,x1,y0,y1 (mm)] [--vmax Z]
 
 One PNG per time, from the frame of OUT_DIR/trajectory.h5 (and of its restarted chunks,
-trajectory.restart*.h5) nearest to it (skipped when none lies within
-1.5 frame intervals). Walls grey. --vmax sets the top of the colour scale (default 1: Z >= 1, a broken
+trajectory.restart<step>.h5, in step order; a later chunk's frames replace an earlier chunk's from its
+first step on) nearest to it (skipped when none lies within 1.5 frame intervals). A wrong OUT_DIR (none, or
+no debris_peridem trajectory in it) is one line and exit status 2, before --to is created. Walls grey.
+--vmax sets the top of the colour scale (default 1: Z >= 1, a broken
 bond in the neighbourhood, is red; paper B's Fig 21 uses 2). Write --zoom with '=' when x0 is negative. Needs numpy, matplotlib and h5py (Debian: python3-h5py).
 """
 import argparse
 import glob
 import os
+import re
 import sys
 
 import numpy as np
+
+
+def trajectory_chunks(out_dir):
+    """trajectory.h5 then every trajectory.restart<step>.h5, in step order (those present)."""
+    restarts = []
+    for p in glob.glob(os.path.join(out_dir, "trajectory.restart*.h5")):
+        m = re.fullmatch(r"trajectory\.restart(\d+)\.h5", os.path.basename(p))
+        if m:
+            restarts.append((int(m.group(1)), p))
+    first = os.path.join(out_dir, "trajectory.h5")
+    return ([first] if os.path.isfile(first) else []) + [p for _, p in sorted(restarts)]
 
 
 def damage_pictures(out_dir, times, prefix, to_dir, labels=None, zoom=None, vmax=1.0):
@@ -25,18 +39,21 @@ def damage_pictures(out_dir, times, prefix, to_dir, labels=None, zoom=None, vmax
 
     written = []
     # A run continued with --restart writes its frames to trajectory.restart<STEP>.h5 beside trajectory.h5:
-    # take the frames of every chunk (a frame written twice, at a restart step, once).
-    paths = [os.path.join(out_dir, "trajectory.h5")] + sorted(glob.glob(os.path.join(out_dir, "trajectory.restart*.h5")))
-    files = [h5py.File(p, "r") for p in paths if os.path.exists(p)]
+    # take the frames of every chunk in step order, each chunk's cut where the next one starts (its first
+    # frame repeats the checkpoint's step; a killed run's frames after its checkpoint are superseded).
+    files = [h5py.File(p, "r") for p in trajectory_chunks(out_dir)]
     try:
+        if not files:
+            raise FileNotFoundError("no trajectory.h5 in %s" % out_dir)
         f = files[0]
         kind = f["grains/kind"][:]
         wall = kind[f["nodes/grain"][:]] == 1
-        by_time = {}
+        frames = []
         for g in files:
-            for k in g["frames"]:
-                by_time.setdefault(float(g["frames/" + k].attrs["time"]), g["frames/" + k])
-        frames = sorted(by_time.items(), key=lambda p: p[0])
+            chunk = sorted(((float(g["frames/" + k].attrs["time"]), g["frames/" + k]) for k in g["frames"]),
+                           key=lambda p: p[0])
+            if chunk:
+                frames = [p for p in frames if p[0] < chunk[0][0] - 1e-15] + chunk
         t = np.array([p[0] for p in frames])
         interval = np.median(np.diff(t)) if len(t) > 1 else 0.0
         for k, m in enumerate(times):
@@ -78,6 +95,20 @@ def main():
     ap.add_argument("--zoom", default=None)
     ap.add_argument("--vmax", type=float, default=1.0)
     args = ap.parse_args()
+    if not os.path.isdir(args.out_dir):
+        print("damage_picture.py: no such output directory: %s" % args.out_dir, file=sys.stderr)
+        return 2
+    if not trajectory_chunks(args.out_dir):
+        print("damage_picture.py: %s has no trajectory.h5 (not a debris_peridem output directory, or no "
+              "output.trajectory_every?)" % args.out_dir, file=sys.stderr)
+        return 2
+    import h5py
+
+    with h5py.File(trajectory_chunks(args.out_dir)[0], "r") as f:
+        if "grains/kind" not in f or "nodes/grain" not in f:
+            print("damage_picture.py: %s is not a debris_peridem trajectory (no grains/kind, nodes/grain)"
+                  % f.filename, file=sys.stderr)
+            return 2
     to = args.to or args.out_dir
     os.makedirs(to, exist_ok=True)
     zoom = [float(x) for x in args.zoom.split(",")] if args.zoom else None

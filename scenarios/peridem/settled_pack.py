@@ -79,6 +79,17 @@ def main():
     ap.add_argument("--clear-walls", type=float, default=0.0, metavar="R_C",
                     help="move grains within this contact radius (m) of a wall node clear of it")
     args = ap.parse_args()
+    # A wrong path is one line (exit 2), before anything is read or written.
+    import os
+
+    for what, path in (("trajectory", args.trajectory), ("particle list", args.particles),
+                       ("--reference trajectory", args.reference)):
+        if path is not None and not os.path.isfile(path):
+            print("settled_pack.py: no such %s: %s" % (what, path), file=sys.stderr)
+            sys.exit(2)
+    if not os.path.isdir(os.path.dirname(args.out) or "."):
+        print("settled_pack.py: no such directory for %s" % args.out, file=sys.stderr)
+        sys.exit(2)
 
     import h5py
 

@@ -5,12 +5,18 @@ sliding distance. Headless PNGs (Debian's python3-matplotlib; ParaView cannot re
 
     /usr/bin/python3 scenarios/wear/plot.py out/wear/junction_D20_d0_6nm [--frames 0,4,10,20] [--out DIR]
 
-Reads dump.lammpstrj (id, x, y, z, radius, ix, mol) and wear.csv from the run's directory; writes
-side_views.png and force.png into --out (default: the run's directory).
+Reads dump.lammpstrj (id, x, y, z, radius, ix, mol), followed by the dump.restart<step>.lammpstrj of each
+--restart continuation in step order (a restart's first frame repeats its checkpoint's step: a later
+chunk's frames replace an earlier chunk's from its first step on), and wear.csv from the run's directory;
+writes side_views.png and, with a wear.csv, force.png into --out (default: the run's directory), and prints
+how many frames it read and what it wrote. A wrong run directory (none, or no dump file in it) or frame
+index is one line and exit status 2, before anything is created.
 """
 import argparse
 import csv
 import pathlib
+import re
+import sys
 
 import matplotlib
 
@@ -38,6 +44,29 @@ def read_frames(path):
         rows = [list(map(float, lines[k + 9 + i].split())) for i in range(n)]
         frames.append((step, box, {c: [r[i] for r in rows] for i, c in enumerate(cols)}))
         k += 9 + n
+    return frames
+
+
+def dump_chunks(run):
+    """dump.lammpstrj then every dump.restart<step>.lammpstrj, in step order (those present)."""
+    restarts = []
+    for p in run.glob("dump.restart*.lammpstrj"):
+        m = re.fullmatch(r"dump\.restart(\d+)\.lammpstrj", p.name)
+        if m:
+            restarts.append((int(m.group(1)), p))
+    first = [run / "dump.lammpstrj"] if (run / "dump.lammpstrj").is_file() else []
+    return first + [p for _, p in sorted(restarts)]
+
+
+def read_run_frames(chunks):
+    """The frames of all chunks, each chunk's cut where the next one starts (a restart's first frame repeats
+    the checkpoint's step; a killed run's frames after its checkpoint are replaced by the restart's)."""
+    frames = []
+    for path in chunks:
+        chunk = read_frames(path)
+        if not chunk:
+            continue
+        frames = [f for f in frames if f[0] < chunk[0][0]] + chunk
     return frames
 
 
@@ -106,16 +135,44 @@ def main():
     ap.add_argument("--title", default="")
     ap.add_argument("--prefix", default="", help="prefix of the PNG names (e.g. the case name)")
     a = ap.parse_args()
+
+    def fail(message):
+        print(f"plot.py: {message}", file=sys.stderr)
+        sys.exit(2)
+
+    # Everything is checked before anything is created: a mistyped run directory leaves nothing behind.
+    if not a.run.is_dir():
+        fail(f"no such run directory: {a.run}")
+    chunks = dump_chunks(a.run)
+    if not chunks:
+        fail(f"{a.run} has no dump.lammpstrj (not a debris_dem output directory, or output.dump_every: 0?)")
+    try:
+        frames = read_run_frames(chunks)
+    except (ValueError, IndexError) as e:
+        fail(f"cannot read the frames of {', '.join(str(c) for c in chunks)}: {e} (a truncated dump?)")
+    if not frames:
+        fail(f"no frames in {', '.join(str(c) for c in chunks)}")
+    try:
+        picks = [int(k) for k in a.frames.split(",")] if a.frames else sorted(
+            {0, len(frames) // 3, 2 * len(frames) // 3, len(frames) - 1})
+    except ValueError:
+        fail(f"--frames {a.frames}: expected frame indices, e.g. 0,4,10,20")
+    bad = [k for k in picks if not -len(frames) <= k < len(frames)]
+    if bad:
+        fail(f"--frames {a.frames}: the run has {len(frames)} frames (indices 0 to {len(frames) - 1})")
+    if a.out is not None and a.out.exists() and not a.out.is_dir():
+        fail(f"--out {a.out} is not a directory")
+    print(f"read {len(frames)} frames (steps {frames[0][0]} to {frames[-1][0]}) from "
+          f"{', '.join(c.name for c in chunks)}; side views of steps {', '.join(str(frames[k][0]) for k in picks)}")
     out = a.out or a.run
     out.mkdir(parents=True, exist_ok=True)
-    frames = read_frames(a.run / "dump.lammpstrj")
-    picks = [int(k) for k in a.frames.split(",")] if a.frames else sorted(
-        {0, len(frames) // 3, 2 * len(frames) // 3, len(frames) - 1})
     title = a.title or a.run.name
-    side_views(frames, picks, out / f"{a.prefix}side_views.png", title, slides(a.run / "wear.csv"))
+    written = [out / f"{a.prefix}side_views.png"]
+    side_views(frames, picks, written[0], title, slides(a.run / "wear.csv"))
     if (a.run / "wear.csv").exists():
-        force_plot(a.run / "wear.csv", out / f"{a.prefix}force.png", title)
-    print(f"wrote {out / (a.prefix + 'side_views.png')} and {out / (a.prefix + 'force.png')}")
+        written.append(out / f"{a.prefix}force.png")
+        force_plot(a.run / "wear.csv", written[-1], title)
+    print("wrote " + " and ".join(str(p) for p in written))
 
 
 if __name__ == "__main__":
