@@ -52,10 +52,17 @@ ThreadRequest request_threads(int command_line, int input) {
     r.fixed = input;
     r.source = "run.threads";
   } else if (const char* env = std::getenv("OMP_NUM_THREADS"); env && *env) {
-    r.fixed = omp_get_max_threads();  // as the OpenMP runtime read it
-    r.source = "OMP_NUM_THREADS";
+    if (omp_num_threads_count(env) > 0) {
+      r.fixed = omp_get_max_threads();  // as the OpenMP runtime read it
+      r.source = "OMP_NUM_THREADS";
+    } else {
+      r.note = "OMP_NUM_THREADS='" + std::string(env) + "' is not a thread count (a whole number >= 1): ignored";
+    }
   }
   if (r.fixed > 0) {
+    if (r.fixed > r.most)
+      r.note = std::to_string(r.fixed) + " threads on " + std::to_string(r.most) +
+               " CPUs: the threads share CPUs and each step waits for the slowest (fewer may step faster)";
     stop_tuning();
     omp_set_num_threads(r.fixed);
     return r;
@@ -89,12 +96,24 @@ int idle_cpus(int most, int* busy) {
   return idle_cpus_from_proc_stat(text.str(), most, busy);
 }
 
+int omp_num_threads_count(const char* value) {
+  if (!value) return 0;
+  const std::string v(value);
+  const std::string first = v.substr(0, v.find(','));
+  const auto begin = first.find_first_not_of(" \t"), end = first.find_last_not_of(" \t");
+  if (begin == std::string::npos) return 0;
+  const std::string digits = first.substr(begin, end - begin + 1);
+  if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) return 0;
+  return std::stoi(digits);
+}
+
 std::string describe(const ThreadRequest& request) {
-  if (request.fixed > 0) return "threads: " + std::to_string(request.fixed) + " (" + request.source + ")";
+  const std::string warning = request.note.empty() ? "" : "\nwarning: " + request.note;
+  if (request.fixed > 0) return "threads: " + std::to_string(request.fixed) + " (" + request.source + ")" + warning;
   return "threads: tuned while stepping, 1 to " + std::to_string(request.most) +
          " (the count that steps fastest under this machine's load; --threads, run.threads or OMP_NUM_THREADS "
          "fix it); set-up on " + std::to_string(request.setup) + " (" + std::to_string(request.busy) +
-         " other process" + (request.busy == 1 ? "" : "es") + " running at start)";
+         " other process" + (request.busy == 1 ? "" : "es") + " running at start)" + warning;
 }
 
 

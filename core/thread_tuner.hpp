@@ -25,7 +25,12 @@ struct ThreadRequest {
   int setup = 0;       // tuned: the threads the set-up runs on, the CPUs no other process was running on
                        // when the run started (idle_cpus()); the tuner takes over at the first step
   int busy = 0;        // tuned: other processes running then (/proc/stat procs_running, less this one)
+  std::string note;    // what describe() warns of: an OMP_NUM_THREADS that is no count, more threads than CPUs
 };
+
+/// The thread count OMP_NUM_THREADS gives: its first list element ("4" or "4,2") when a whole number >= 1,
+/// else 0 (unset, empty, "abc", "0", "-2": no count, so the threads are tuned).
+int omp_num_threads_count(const char* value);
 
 /// CPUs of `most` that no other process is running on now: `most` less the runnable tasks of the whole
 /// machine (/proc/stat procs_running, this process's own thread not counted), at least 1. `most` when

@@ -316,4 +316,31 @@ long pd_touching_pairs(const PdContactTable& table, const PdNodes& nodes, const 
   return touching;
 }
 
+double pd_deepest_penetration(const PdContactTable& table, const PdNodes& nodes, const PdGrains& grains,
+                              const PdContactList& list) {
+  check_sizes(table, nodes, grains, list);
+  const int n = list.rows();
+  const int* offset = list.offset().data();
+  const int* index = list.index().data();
+  const double *x = nodes.x.data(), *y = nodes.y.data(), *z = nodes.z.data();
+  const int* grain = nodes.grain.data();
+  const int* material = grains.material.data();
+  const PdContactParams* pairs = table.pairs.data();
+  const int nm = table.materials;
+  double deepest = 0.0;
+  DEBRIS_RESIDENT(offset, index, x, y, z, grain, material, pairs);
+  DEBRIS_KERNEL_MAX(deepest)
+  for (int i = 0; i < n; ++i) {
+    for (int k = offset[i]; k < offset[i + 1]; ++k) {
+      const int j = index[k];
+      if (grain[j] == grain[i]) continue;  // self-contact inside a broken grain is not a pair of bodies
+      const double rc = pairs[material[grain[i]] * nm + material[grain[j]]].r_c;
+      const double dx = x[j] - x[i], dy = y[j] - y[i], dz = z[j] - z[i];
+      const double depth = (rc - std::sqrt(dx * dx + dy * dy + dz * dz)) / rc;
+      deepest = depth > deepest ? depth : deepest;
+    }
+  }
+  return deepest;
+}
+
 }  // namespace debris

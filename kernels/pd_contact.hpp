@@ -78,4 +78,10 @@ double pd_contact_elastic_energy(const PdContactTable& table, const PdNodes& nod
 long pd_touching_pairs(const PdContactTable& table, const PdNodes& nodes, const PdGrains& grains,
                        const PdContactList& list);
 
+/// The deepest penetration of two bodies: the largest (R_c - |x' - x|) / R_c over listed node pairs of two
+/// different grains or walls (0 when none is within R_c). A max reduction, cheap enough for every step;
+/// the health check's run.penetration_limit is compared with it.
+double pd_deepest_penetration(const PdContactTable& table, const PdNodes& nodes, const PdGrains& grains,
+                              const PdContactList& list);
+
 }  // namespace debris

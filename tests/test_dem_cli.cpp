@@ -111,6 +111,39 @@ TEST_F(DemCli, NegativeRadiusInDataFile) {
   expect_rejected(yaml, {"diameter", "-100", "bad.data"});
 }
 
+// Two rows of the data file at one place (ids 1 and 2): eq 2's normal is 0 / 0. Refused at set-up, naming both.
+TEST_F(DemCli, RepeatedParticleInDataFile) {
+  write(dir, "twice.data",
+        "LAMMPS data\n\n3 atoms\n1 atom types\n0 400 xlo xhi\n0 400 ylo yhi\n0 400 zlo zhi\n\nAtoms # sphere\n\n"
+        "1 1 100 1 100 100 100\n2 1 100 1 100 100 100\n3 1 100 1 200 100 100\n");
+  std::string yaml = replace(small_input(out.string()), R"(  lattice:
+    kind: fcc
+    spacing: 100
+    diameter: 100
+    cells: [3, 3, 3]
+)", "  lammps_data: twice.data\n");
+  yaml = replace(yaml, "periodic: [true, true, true]", "periodic: [false, false, false]");
+  expect_rejected(yaml, {"'particles'", "particles id 1 and id 2", "repeated particle"});
+}
+
+// Global damping F = -c v with c = f c_c (eq 21): over one step it takes f c_c dt / m of a particle's
+// velocity. For equal particles at dt = 0.1 dt_c that is 0.2 f (dt_c = sqrt(2 m / k_N), c_c = sqrt(2 k_N m)),
+// so f must stay below 5, in the run and in a stage alike; 20 c_c gave NaN by step 100.
+TEST_F(DemCli, GlobalDampingPastItsStableRange) {
+  const std::string yaml = small_input(out.string());
+  expect_rejected(replace(yaml, "time_step_fraction: 0.1", "time_step_fraction: 0.1\n  global_damping: 20"),
+                  {"run.global_damping", "20", "must stay below"});
+  expect_rejected(replace(yaml, "time_step_fraction: 0.1", "time_step_fraction: 0.1\n  global_damping: 5.05"),
+                  {"run.global_damping", "5.05"});
+  expect_rejected(yaml + "stages:\n  - {name: damped, duration: 2000, global_damping: 5.05}\n",
+                  {"stages[0].global_damping", "5.05"});
+  const Result below = run_dem("-i " + write(dir, "below.yaml",
+                                             replace(yaml, "time_step_fraction: 0.1",
+                                                     "time_step_fraction: 0.1\n  global_damping: 4.95")).string() +
+                               " -o " + (dir / "below").string());
+  EXPECT_EQ(below.exit_code, 0) << below.output;
+}
+
 TEST_F(DemCli, TimeStepAboveCritical) {
   expect_rejected(replace(small_input(out.string()), "time_step_fraction: 0.1", "time_step: 200"),
                   {"run.time_step", "200", "critical time step", "143.99"});
@@ -154,8 +187,15 @@ TEST_F(DemCli, NonIntegerGroupTypeOrId) {
   const std::string groups = "groups:\n  - name: g\n    motion: frozen\n";
   expect_rejected(replace(small_input(out.string()), "run:\n", groups + "    types: [1.7]\nrun:\n"),
                   {"groups[0].types[0]", "1.7", "whole number"});
-  expect_rejected(replace(small_input(out.string()), "run:\n", groups + "    ids: [3, 4e0]\nrun:\n"),
-                  {"groups[0].ids[1]", "4e0", "whole number"});
+  expect_rejected(replace(small_input(out.string()), "run:\n", groups + "    ids: [3, 4.5e0]\nrun:\n"),
+                  {"groups[0].ids[1]", "4.5e0", "whole number"});
+}
+
+// A group name heads thermo.csv columns: one with a comma was accepted and the run stopped (exit 3) after
+// creating the output directory.
+TEST_F(DemCli, GroupNameThatCannotHeadAColumn) {
+  const std::string groups = "groups:\n  - name: top, bottom\n    motion: frozen\n    types: [1]\nrun:\n";
+  expect_rejected(replace(small_input(out.string()), "run:\n", groups), {"groups[0].name", "top, bottom", "','"});
 }
 
 TEST_F(DemCli, WrongUnit) {
@@ -247,6 +287,55 @@ TEST(DemCliRestart, RestartContinuesBitForBit) {
   const Result back = run_dem("--restart " + (d / "split" / "checkpoint.h5").string() + " -i " + shorter.string());
   EXPECT_EQ(back.exit_code, 2) << back.output;
   EXPECT_NE(back.output.find("run.steps"), std::string::npos) << back.output;
+}
+
+// A restart reads only what it needs: from another directory, without -i, with the data file gone; an -i
+// whose system differs (material, data file path) is read for its run keys only, and the keys the
+// checkpoint overrides are named in one line. The result equals the run in one piece.
+TEST(DemCliRestart, RestartsFromAnotherDirectoryWithoutTheInputOrItsDataFile) {
+  const fs::path d = scratch("restart_elsewhere");
+  fs::create_directories(d / "a");
+  fs::create_directories(d / "b");
+  fs::create_directories(d / "c");
+  // Eight touching particles, a little off their cube (they start moving), in an open box.
+  const std::string data =
+      "LAMMPS data\n\n8 atoms\n1 atom types\n0 400 xlo xhi\n0 400 ylo yhi\n0 400 zlo zhi\n\nAtoms # sphere\n\n"
+      "1 1 200 1 100 100 100\n2 1 200 1 301 100 100\n3 1 200 1 100 298 100\n4 1 200 1 300 300 103\n"
+      "5 1 200 1 102 100 300\n6 1 200 1 300 99 300\n7 1 200 1 100 300 301\n8 1 200 1 297 302 300\n";
+  write(d / "a", "cube.data", data);
+  auto input = [&](long steps, const std::string& out_dir) {
+    std::string yaml = replace(small_input(out_dir), R"(  lattice:
+    kind: fcc
+    spacing: 100
+    diameter: 100
+    cells: [3, 3, 3]
+)", "  lammps_data: cube.data\n");
+    yaml = replace(yaml, "periodic: [true, true, true]", "periodic: [false, false, false]");
+    return replace(yaml, "steps: 20", "steps: " + std::to_string(steps));
+  };
+  write(d / "a", "whole.yaml", input(80, (d / "whole").string()));
+  write(d / "a", "part.yaml", input(40, "out"));
+  const auto in = [&](const fs::path& cwd) { return "cd " + cwd.string() + " && " + DEBRIS_DEM_EXECUTABLE; };
+  for (const char* yaml : {"whole.yaml", "part.yaml"}) {
+    const Result r = debris::test::run_command(in(d / "a"), std::string("-i ") + yaml);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  fs::rename(d / "a" / "cube.data", d / "cube.data.gone");
+  const std::string checkpoint = (d / "a" / "out" / "checkpoint.h5").string();
+  // Without -i: the kept input, whose 40 steps are done; nothing is read but the checkpoint.
+  const Result same = debris::test::run_command(in(d / "b"), "--restart " + checkpoint);
+  ASSERT_EQ(same.exit_code, 0) << same.output;
+  EXPECT_NE(same.output.find("at step 40"), std::string::npos) << same.output;
+  EXPECT_EQ(same.output.find("ignored at restart"), std::string::npos) << same.output;
+  // With an -i for 80 steps whose data file does not exist there and whose material differs.
+  write(d / "c", "more.yaml", replace(input(80, "unused"), "youngs_modulus: 1", "youngs_modulus: 2"));
+  const Result more = debris::test::run_command(in(d / "b"), "--restart " + checkpoint + " -i ../c/more.yaml");
+  ASSERT_EQ(more.exit_code, 0) << more.output;
+  EXPECT_NE(more.output.find("ignored at restart: material (the checkpoint's"), std::string::npos) << more.output;
+  // Without -o the restart continues in the checkpoint's own directory.
+  EXPECT_EQ(slurp(d / "whole" / "thermo.csv"), slurp(d / "a" / "out" / "thermo.csv"));
+  EXPECT_FALSE(fs::exists(d / "b" / "out"));
+  EXPECT_FALSE(fs::exists(d / "c" / "unused"));
 }
 
 // A run pushed past the critical time step blows up: it stops at a health check with a message naming the

@@ -143,6 +143,25 @@ groups:
   EXPECT_TRUE(contains(msg, "'a.count' = abc")) << msg;
   msg = error_of([&] { a.integer("big"); });
   EXPECT_TRUE(contains(msg, "'a.big' = 99999999999999999999999")) << msg;
+  // A plain number beside values with units is noted (it may be a forgotten unit); a file of plain
+  // numbers alone (Table 4's reduced units) or of units alone has nothing to note.
+  const InputNode mixed = InputNode::load_string("{E: 73 GPa, rho: 2200, nu: 0.17, v: [1 m/s, 2, 0]}", "m.yaml");
+  mixed.quantity("E", units::pressure);
+  mixed.quantity("rho", units::density);
+  mixed.quantity("nu", units::dimensionless);
+  mixed.vec3("v", units::velocity);
+  EXPECT_EQ(mixed.plain_beside_units(), (std::vector<std::string>{"rho = 2200", "v[1] = 2"}));
+  const InputNode plain = InputNode::load_string("{E: 1, rho: 1}", "p.yaml");
+  plain.quantity("E", units::pressure);
+  plain.quantity("rho", units::density);
+  EXPECT_TRUE(plain.plain_beside_units().empty());
+  // Exponent notation is a whole number when it is exact (1e9 steps); 1e-3 and 2.5e0 are not.
+  const InputNode e = InputNode::load_string("{a: 1e9, b: 2.5e3, c: 1e-3, d: 2.5e0, f: 1e30}", "e.yaml");
+  EXPECT_EQ(e.integer("a"), 1000000000);
+  EXPECT_EQ(e.integer("b"), 2500);
+  EXPECT_TRUE(contains(error_of([&] { e.integer("c"); }), "'c' = 1e-3")) << error_of([&] { e.integer("c"); });
+  EXPECT_TRUE(contains(error_of([&] { e.integer("d"); }), "whole number"));
+  EXPECT_TRUE(contains(error_of([&] { e.integer("f"); }), "out of the range"));
   msg = error_of([&] { a.boolean("flag"); });
   EXPECT_TRUE(contains(msg, "'a.flag' = maybe")) << msg;
   EXPECT_TRUE(contains(msg, "true or false")) << msg;

@@ -361,6 +361,52 @@ TEST(PeridemCliSetUp, GrainPlacedIntoAWallIsRefused) {
   EXPECT_FALSE(fs::exists(d / "out" / "thermo.csv"));
 }
 
+// Grains placed into each other are refused at set-up with exit 2, naming both, before anything is
+// written: a repeated row of a particle list (both discs at one place) and discs 1.5 mm apart (radius 1 mm:
+// 0.5 mm deep, past half the contact radius). Run as they were, two discs 0.53 R_c deep left at 7.3 m/s
+// instead of 0.1, with two thirds of their bonds broken.
+TEST(PeridemCliSetUp, GrainsPlacedIntoEachOtherAreRefused) {
+  const fs::path d = scratch("into_each_other");
+  for (const std::string centre : {"centre: [0, 1.18 mm, 0]", "centre: [0, 2.68 mm, 0]"}) {
+    const std::string yaml = replace(small_input((d / "out").string()), "centre: [0, 3.5 mm, 0]", centre);
+    const Result r = run_peridem("-i " + write(d, "overlap.yaml", yaml).string());
+    EXPECT_EQ(r.exit_code, 2) << centre << "\n" << r.output;
+    for (const char* m : {"input error: 'grains'", "of 'bottom'", "of 'top'", "start inside each other"})
+      EXPECT_NE(r.output.find(m), std::string::npos) << m << " in:\n" << r.output;
+    EXPECT_FALSE(fs::exists(d / "out" / "thermo.csv")) << centre;
+    EXPECT_FALSE(fs::exists(d / "out" / "trajectory.h5")) << centre;
+  }
+}
+
+// The penetration check runs every step: a 500 m/s impact is stopped at the same step whether thermo rows
+// (and the full health check) come every 20 steps or only at the end; it passed with exit 0 at 2,000.
+TEST(PeridemCliRestart, PenetrationIsCheckedEveryStepWhateverThermoEvery) {
+  const fs::path d = scratch("penetration_every_step");
+  std::string stopped_at[2];
+  int k = 0;
+  for (const char* every : {"20", "2000"}) {
+    std::string yaml = replace(small_input((d / every).string()), "velocity: [0, -10 m/s, 0]", "velocity: [0, -500 m/s, 0]");
+    yaml = replace(yaml, "steps: 60", "steps: 2000");
+    yaml = replace(yaml, "  thermo_every: 20\n  trajectory_every: 20", std::string("  thermo_every: ") + every);
+    const Result r = run_peridem("-i " + write(d, std::string("fast") + every + ".yaml", yaml).string());
+    EXPECT_EQ(r.exit_code, 3) << every << "\n" << r.output;
+    for (const char* m : {"stopped: step ", "'bottom'", "passing through"})
+      EXPECT_NE(r.output.find(m), std::string::npos) << m << " in:\n" << r.output;
+    const auto at = r.output.find("stopped: step ");
+    if (at != std::string::npos) stopped_at[k] = r.output.substr(at, r.output.find(':', at + 14) - at);
+    ++k;
+  }
+  EXPECT_FALSE(stopped_at[0].empty());
+  EXPECT_EQ(stopped_at[0], stopped_at[1]);
+  // The gap of 0.32 mm closes at 500 m/s in 6.4 steps of 0.1 us; the top disc drives the bottom one into the
+  // floor within tens of steps, and the stop comes then, not at a multiple of thermo_every.
+  if (!stopped_at[0].empty()) {
+    const long step = std::stol(stopped_at[0].substr(14));
+    EXPECT_LT(step, 200) << stopped_at[0];
+    EXPECT_NE(step % 20, 0) << stopped_at[0];
+  }
+}
+
 // A grain passing through another (contact springs a million times too soft for a 10 m/s impact) stops
 // the run at the next check with exit 3, naming the two grains, and the checkpoint left is the last good one.
 TEST(PeridemCliRestart, DeepPenetrationStopsTheRun) {

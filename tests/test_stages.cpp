@@ -375,16 +375,18 @@ TEST(StagedRun, PeridemGlobalDampingStageDecaysAsItsRecurrenceAndRestartsBitForB
   }
 }
 
-// run.overlap_limit: a sample that starts with overlaps deeper than the default limit (0.5 r_min) stops at
-// the first check with exit 3; `auto` (the deepest initial overlap + one smallest radius) lets it run; a
-// non-positive limit is a named error.
+// run.overlap_limit: a sample that starts with overlaps deeper than the default limit (0.5 r_min) is refused
+// at set-up (exit 2, nothing written: the step-0 state is checked before any file); `auto` (the deepest
+// initial overlap + one smallest radius) lets it run; a non-positive limit is a named error.
 TEST(StagedRun, DemOverlapLimitSetting) {
   const fs::path d = debris::test::fresh_directory("debris_stages_overlap");
   std::string squeezed = replace(dem_staged_input((d / "out").string()), "    diameter: 100", "    diameter: 160");
   squeezed = replace(squeezed, "cells: [4, 4, 3]", "cells: [6, 4, 4]");  // periodic sides above 2 cutoffs
   const CommandResult fixed = run_dem("-i " + write_text_file(d, "fixed.yaml", squeezed));
-  EXPECT_EQ(fixed.exit_code, 3) << fixed.output;
-  EXPECT_NE(fixed.output.find("exploding overlap"), std::string::npos) << fixed.output;
+  EXPECT_EQ(fixed.exit_code, 2) << fixed.output;
+  // Diameter 160 at spacing 100: neighbours overlap by 60 (radii 77-79 with the lattice's size spread).
+  EXPECT_NE(fixed.output.find("too deep an overlap at step 0"), std::string::npos) << fixed.output;
+  EXPECT_FALSE(fs::exists(d / "out")) << "a refused set-up wrote output";
   const CommandResult automatic = run_dem(
       "-i " + write_text_file(d, "auto.yaml", replace(squeezed, "run:\n", "run:\n  steps: 20\n  overlap_limit: auto\n")));
   EXPECT_EQ(automatic.exit_code, 0) << automatic.output;

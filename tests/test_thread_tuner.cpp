@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <functional>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -96,7 +97,25 @@ TEST_F(ThreadTunerTest, ASingleCandidateNeverProbes) {
   EXPECT_TRUE(tuner.take_messages().empty());
 }
 
+// The test's own environment must not decide which half runs: OMP_NUM_THREADS is set aside while it runs
+// and put back after.
+class SavedOmpNumThreads {
+ public:
+  SavedOmpNumThreads() {
+    if (const char* v = std::getenv("OMP_NUM_THREADS")) saved_ = v;
+    unsetenv("OMP_NUM_THREADS");
+  }
+  ~SavedOmpNumThreads() {
+    if (saved_) setenv("OMP_NUM_THREADS", saved_->c_str(), 1);
+    else unsetenv("OMP_NUM_THREADS");
+  }
+
+ private:
+  std::optional<std::string> saved_;
+};
+
 TEST(ThreadRequest, UserCountsWinInOrderAndOtherwiseTheCountIsTuned) {
+  const SavedOmpNumThreads environment;
   const int saved = threads();
   ThreadRequest r = request_threads(3, 2);
   EXPECT_EQ(r.fixed, 3);
@@ -105,7 +124,7 @@ TEST(ThreadRequest, UserCountsWinInOrderAndOtherwiseTheCountIsTuned) {
   r = request_threads(0, 2);
   EXPECT_EQ(r.fixed, 2);
   EXPECT_EQ(r.source, "run.threads");
-  if (std::getenv("OMP_NUM_THREADS") == nullptr) {
+  {
     r = request_threads(0, 0);
     EXPECT_EQ(r.fixed, 0);
     EXPECT_EQ(r.source, "tuned");
@@ -125,6 +144,29 @@ TEST(ThreadRequest, UserCountsWinInOrderAndOtherwiseTheCountIsTuned) {
   std::ostringstream none;
   print_tuning_summary(none);  // a count set by hand ends the tuning: no summary
   EXPECT_EQ(none.str(), "");
+}
+
+// OMP_NUM_THREADS counts only when it is one: a whole number >= 1, or a list starting with one (nesting).
+// Anything else is ignored with a warning and the count is tuned; more threads than CPUs are warned of.
+TEST(ThreadRequest, AnOmpNumThreadsThatIsNoCountIsIgnoredWithAWarning) {
+  EXPECT_EQ(omp_num_threads_count("4"), 4);
+  EXPECT_EQ(omp_num_threads_count(" 2 "), 2);
+  EXPECT_EQ(omp_num_threads_count("4,2"), 4);
+  for (const char* bad : {"", "abc", "0", "-2", "2.5", "1e3", "4x"}) EXPECT_EQ(omp_num_threads_count(bad), 0) << bad;
+  EXPECT_EQ(omp_num_threads_count(nullptr), 0);
+  const SavedOmpNumThreads environment;
+  const int saved = threads();
+  setenv("OMP_NUM_THREADS", "abc", 1);
+  ThreadRequest r = request_threads(0, 0);
+  EXPECT_EQ(r.source, "tuned");
+  EXPECT_NE(describe(r).find("warning: OMP_NUM_THREADS='abc' is not a thread count"), std::string::npos) << describe(r);
+  r = request_threads(r.most + 1, 0);
+  EXPECT_NE(describe(r).find("warning: " + std::to_string(r.most + 1) + " threads on " + std::to_string(r.most) + " CPUs"),
+            std::string::npos)
+      << describe(r);
+  r = request_threads(1, 0);
+  EXPECT_EQ(describe(r), "threads: 1 (--threads)");
+  set_threads(saved);
 }
 
 // The set-up's count: the CPUs no other process runs on, from /proc/stat's procs_running (which counts

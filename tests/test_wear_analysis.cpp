@@ -5,6 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
+#include <vector>
+
+#include "core/error.hpp"
 
 #include "core/lattice.hpp"
 #include "scenarios/common/dem_simulation.hpp"
@@ -147,11 +151,112 @@ TEST(WearAnalysis, BallRollingWithoutSlipIsARollingWearParticle) {
   EXPECT_NEAR(last.rolling_number, 1.0, 0.2);
   EXPECT_LT(last.residual, 0.02);
   // Kinematics need a whole window (600 steps) of sliding behind a sample; the ball is a rolling third body
-  // from the first such sample on.
+  // in the fit of the first such sample on, and the verdict, which needs one at every sample of its span
+  // (window / 2 = 300 steps, samples 6 to 9), from sample 9 on.
   EXPECT_FALSE(wear.samples()[5].kinematics);
-  EXPECT_EQ(wear.detection_index(), 6);
+  EXPECT_EQ(wear.samples()[6].sample_verdict, WearVerdict::rolling);
+  EXPECT_EQ(wear.samples()[8].verdict, WearVerdict::ductile);
+  EXPECT_EQ(wear.detection_index(), 9);
+  EXPECT_NEAR(last.mean_centre_speed, 0.5, 0.01);
+  EXPECT_LT(last.mean_residual, 0.02);
   // Its bonds: every pair of the ball stayed in range, so it is one bonded cluster bonded to neither wall.
   EXPECT_NEAR(last.junction_in_third, 1.0, 1e-12);
+}
+
+// Each threshold decides at its boundary: the rolling ball is analysed once with the input's settings and,
+// on the same samples, with one threshold moved just past the value measured over the verdict's span (a
+// relative 1e-6 either side), which must turn the verdict to what that threshold means.
+TEST(WearAnalysis, EachThresholdDecidesAtItsBoundary) {
+  JunctionSystem s = make_system(true);
+  DemSimulation sim(s.box, std::move(s.particles), std::move(s.groups), settings());
+  const double R = half_height(sim.particles());
+  set_body_motion(sim, 0.5 * kWallSpeed, -kWallSpeed / (2 * R));
+  // A first pass gives the values over the span at the last sample (steps 1200-1500).
+  const WearAnalysis reference = run(sim, 1500);
+  const WearSample ref = reference.samples().back();
+  ASSERT_EQ(ref.verdict, WearVerdict::rolling) << reference.report();
+  double min_volume = 1;
+  for (std::size_t k = reference.samples().size() - 4; k < reference.samples().size(); ++k)
+    min_volume = std::min(min_volume, reference.samples()[k].third_volume);
+
+  struct Case {
+    const char* what;
+    WearSettings settings;
+    WearVerdict expected;
+  };
+  const double up = 1 + 1e-6, down = 1 - 1e-6;
+  std::vector<Case> cases;
+  auto with = [&](const char* what, auto edit, WearVerdict expected) {
+    WearSettings w = wear_settings(sim.dt());
+    edit(w);
+    cases.push_back({what, w, expected});
+  };
+  with("max_residual just above", [&](WearSettings& w) { w.max_residual = ref.mean_residual * up; }, WearVerdict::rolling);
+  with("max_residual just below", [&](WearSettings& w) { w.max_residual = ref.mean_residual * down; }, WearVerdict::ductile);
+  with("centre_speed max just above", [&](WearSettings& w) { w.centre_speed_max = ref.mean_centre_speed * up; },
+       WearVerdict::rolling);
+  with("centre_speed max just below", [&](WearSettings& w) { w.centre_speed_max = ref.mean_centre_speed * down; },
+       WearVerdict::detached);
+  with("centre_speed min just above", [&](WearSettings& w) { w.centre_speed_min = ref.mean_centre_speed * up; },
+       WearVerdict::detached);
+  with("rolling_number min just below", [&](WearSettings& w) { w.rolling_number_min = ref.mean_rolling_number * down; },
+       WearVerdict::rolling);
+  with("rolling_number min just above", [&](WearSettings& w) { w.rolling_number_min = ref.mean_rolling_number * up; },
+       WearVerdict::detached);
+  with("rolling_number max just below", [&](WearSettings& w) { w.rolling_number_max = ref.mean_rolling_number * down; },
+       WearVerdict::detached);
+  with("min_volume_fraction at the span's least", [&](WearSettings& w) { w.min_volume_fraction = min_volume; },
+       WearVerdict::rolling);
+  with("min_volume_fraction just above it", [&](WearSettings& w) { w.min_volume_fraction = std::min(1.0, min_volume * up); },
+       WearVerdict::ductile);
+  // The span: kinematics from step 600 on, so a span reaching back to step 600 is covered, one to 500 not.
+  with("verdict_span back to the first fit", [&](WearSettings& w) { w.verdict_span = 900 * sim.dt(); }, WearVerdict::rolling);
+  with("verdict_span past the first fit", [&](WearSettings& w) { w.verdict_span = 1000 * sim.dt(); }, WearVerdict::ductile);
+
+  // The same run again from the same start, every analysis sampling it.
+  JunctionSystem s2 = make_system(true);
+  DemSimulation again(s2.box, std::move(s2.particles), std::move(s2.groups), settings());
+  set_body_motion(again, 0.5 * kWallSpeed, -kWallSpeed / (2 * R));
+  std::vector<WearAnalysis> analyses;
+  for (const Case& c : cases) analyses.emplace_back(c.settings, again);
+  for (WearAnalysis& a : analyses) a.sample(again);
+  for (long step = 1; step <= 1500; ++step) {
+    again.step();
+    if (step % 100 == 0)
+      for (WearAnalysis& a : analyses) a.sample(again);
+  }
+  for (std::size_t k = 0; k < cases.size(); ++k)
+    EXPECT_EQ(analyses[k].verdict(), cases[k].expected) << cases[k].what << "\n" << analyses[k].report();
+}
+
+// The state handed to a checkpoint restores an analysis that goes on exactly as the original.
+TEST(WearAnalysis, RestoredStateGoesOnAsTheOriginal) {
+  JunctionSystem s = make_system(true);
+  DemSimulation sim(s.box, std::move(s.particles), std::move(s.groups), settings());
+  const double R = half_height(sim.particles());
+  set_body_motion(sim, 0.5 * kWallSpeed, -kWallSpeed / (2 * R));
+  WearAnalysis original(wear_settings(sim.dt()), sim);
+  original.sample(sim);
+  std::optional<WearAnalysis> copy;
+  for (long step = 1; step <= 1500; ++step) {
+    sim.step();
+    if (step % 100 != 0) continue;
+    original.sample(sim);
+    if (step == 800) {
+      copy.emplace(wear_settings(sim.dt()), sim);
+      copy->restore(original.state(), "test");
+    } else if (copy) {
+      copy->sample(sim);
+    }
+  }
+  ASSERT_TRUE(copy);
+  ASSERT_EQ(copy->samples().size(), original.samples().size());
+  for (std::size_t k = 0; k < original.samples().size(); ++k)
+    EXPECT_EQ(WearAnalysis::row(copy->samples()[k]), WearAnalysis::row(original.samples()[k])) << "sample " << k;
+  EXPECT_EQ(copy->report(), original.report());
+  WearState broken = original.state();
+  broken.history_id.pop_back();
+  EXPECT_THROW(copy->restore(broken, "test"), InputError);
 }
 
 // The same across the periodic x face: members joined through minimum images are fitted as one body.

@@ -1,10 +1,12 @@
 // The sheared junction of paper A section 4 end to end at d0 = 6 nm (about 500 particles, 127,500 steps
 // each): both junction sizes on three samples (seeds 1-3), from the shipped inputs, through debris_dem and
-// its wear analysis. The verdicts asserted are the ones debris's runs give (scenarios/wear/RESULTS.md says
-// which agree with the paper: it reports rolling for D = 20 nm at every d0), so a change of physics, set-up
-// or analysis that flips one shows here.
+// its wear analysis. Their verdicts are regression values, the ones debris's runs give (scenarios/wear/
+// RESULTS.md says which agree with the paper: it reports rolling for D = 20 nm at every d0); an analysis
+// that always said "ductile" would pass them, which the rolling case at d0 = 1.5 nm below, the ball tests
+// of test_wear_analysis.cpp and their threshold-boundary cases rule out.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -62,6 +64,97 @@ INSTANTIATE_TEST_SUITE_P(D0SixNm, WearJunction,
                                            Case{"junction_D10_d0_6nm_seed2", 0}, Case{"junction_D20_d0_6nm_seed2", 0},
                                            Case{"junction_D10_d0_6nm_seed3", 0}, Case{"junction_D20_d0_6nm_seed3", 0}),
                          [](const ::testing::TestParamInfo<Case>& i) { return i.param.input; });
+
+// The case whose outcome is known independently of the analysis: D = 20 nm at d0 = 1.5 nm, where the paper
+// (Figs 10, A.10) finds a rolling wear particle (4,228 particles, 510,000 steps, about 4 min on one thread;
+// left out of the sanitizer stage of .ci/run). Checked against physics: rolling without slip between a fixed
+// and a sliding wall moves the centre at half the wall's speed with a rolling number near 1, as a rigid
+// body (residual far below a sheared layer's ~0.7). Pinned beside those, as regression values, the last
+// window's and the verdict span's numbers of this code's run (2026-12-03).
+TEST(WearJunctionRolling, D20AtD0OneAndAHalfNmIsARollingWearParticleAsInThePaper) {
+  const fs::path out = debris::test::fresh_directory("debris_wear_rolling");
+  const std::string input = std::string(DEBRIS_SOURCE_DIR) + "/scenarios/wear/junction_D20_d0_1.5nm.yaml";
+  const debris::test::CommandResult r =
+      debris::test::run_command(DEBRIS_DEM_EXECUTABLE, "-i " + input + " -o " + out.string() + " --threads 1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string wear = debris::test::slurp(out / "wear.csv");
+  const std::vector<double> last = last_row(wear);
+  auto at = [&](const char* name) { return last[column(wear, name)]; };
+  EXPECT_EQ(static_cast<int>(at("verdict")), 2) << r.output.substr(r.output.find("wear: verdict"));
+  // Physics: rolling without slip.
+  EXPECT_NEAR(at("centre_speed"), 0.5, 0.05);
+  EXPECT_NEAR(at("mean_centre_speed"), 0.5, 0.05);
+  EXPECT_NEAR(at("rolling_number"), 1.0, 0.3);
+  EXPECT_LT(at("residual"), 0.15);
+  EXPECT_GT(at("third_volume"), 0.5);
+  // Regression values of this run.
+  EXPECT_NEAR(at("centre_speed"), 0.48672, 1e-3);
+  EXPECT_NEAR(at("residual"), 0.09730, 1e-3);
+  EXPECT_NEAR(at("rolling_number"), 1.26026, 3e-3);
+  EXPECT_NEAR(at("mean_centre_speed"), 0.47733, 1e-3);
+  EXPECT_NEAR(at("mean_residual"), 0.12070, 1e-3);
+  EXPECT_EQ(static_cast<long>(at("third_particles")), 220);
+}
+
+// A junction run in three chunks (restarts at step 20,000 and at 45,000, inside the last window and the
+// verdict's span, and one more from the checkpoint at 45,000 after a kill while the final checkpoint was
+// being written) writes the wear.csv, thermo and verdict of the run in one piece byte for byte: the
+// analysis's window, bond record and samples are in the checkpoint. The slide is 4 ns here (52,500 steps).
+TEST(WearJunctionRestart, ChunkedRunEqualsTheRunInOnePiece) {
+  const fs::path d = debris::test::fresh_directory("debris_wear_chunks");
+  auto replace = [](std::string t, const std::string& from, const std::string& to) {
+    const auto at = t.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) t.replace(at, from.size(), to);
+    return t;
+  };
+  std::string full = debris::test::slurp(fs::path(DEBRIS_SOURCE_DIR) / "scenarios" / "wear" / "junction_D20_d0_6nm.yaml");
+  full = replace(full, "lammps_data: data/", "lammps_data: " + std::string(DEBRIS_SOURCE_DIR) + "/scenarios/wear/data/");
+  full = replace(full, "duration: 10.0 ns", "duration: 4.0 ns");
+  const std::string whole = debris::test::write_text_file(d, "whole.yaml", full);
+  const std::string first = debris::test::write_text_file(d, "first.yaml", replace(full, "run:\n", "run:\n  steps: 20000\n"));
+  const std::string second = debris::test::write_text_file(d, "second.yaml", replace(full, "run:\n", "run:\n  steps: 45000\n"));
+  const fs::path one = d / "one", chunks = d / "chunks";
+  auto dem = [](const std::string& args) {
+    const debris::test::CommandResult r = debris::test::run_command(DEBRIS_DEM_EXECUTABLE, args + " --threads 1");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return r.output;
+  };
+  const std::string whole_log = dem("-i " + whole + " -o " + one.string());
+  dem("-i " + first + " -o " + chunks.string());
+  const std::string checkpoint = (chunks / "checkpoint.h5").string();
+  dem("--restart " + checkpoint + " -i " + second + " -o " + chunks.string());
+  const fs::path at_45000 = d / "checkpoint_45000.h5";
+  fs::copy_file(checkpoint, at_45000);
+  dem("--restart " + checkpoint + " -i " + whole + " -o " + chunks.string());
+  EXPECT_EQ(debris::test::slurp(one / "wear.csv"), debris::test::slurp(chunks / "wear.csv"));
+  // The kill: the final checkpoint never renamed into place (the one at 45,000 is still there), a cut-off
+  // temporary file beside it, and rows past 45,000 already written.
+  const std::string final_checkpoint = debris::test::slurp(checkpoint);
+  fs::copy_file(at_45000, checkpoint, fs::copy_options::overwrite_existing);
+  std::ofstream(checkpoint + ".tmp", std::ios::binary) << final_checkpoint.substr(0, final_checkpoint.size() / 2);
+  const std::string last_log = dem("--restart " + checkpoint + " -i " + whole + " -o " + chunks.string());
+  EXPECT_NE(last_log.find("thermo.csv: its rows after step 45000, up to step 52500"), std::string::npos) << last_log;
+  const std::string wear = debris::test::slurp(one / "wear.csv");
+  EXPECT_EQ(wear, debris::test::slurp(chunks / "wear.csv"));
+  EXPECT_EQ(debris::test::slurp(one / "thermo.csv"), debris::test::slurp(chunks / "thermo.csv"));
+  auto verdict = [](const std::string& log) { return log.substr(log.find("wear: verdict"), log.find("\nwear: bonds") -
+                                                                                            log.find("wear: verdict")); };
+  EXPECT_EQ(verdict(whole_log), verdict(last_log));
+  EXPECT_FALSE(fs::exists(checkpoint + ".tmp"));
+  // The restarts fell in windows with candidate third bodies: the analysis had state to carry.
+  std::stringstream rows(wear);
+  std::string line;
+  std::getline(rows, line);
+  long with_candidate = 0;
+  while (std::getline(rows, line)) {
+    std::stringstream cells(line);
+    std::vector<double> v;
+    for (std::string c; std::getline(cells, c, ',');) v.push_back(std::stod(c));
+    if (v[0] > 20000 && v[column(wear, "third_particles")] > 0) ++with_candidate;
+  }
+  EXPECT_GT(with_candidate, 5);
+}
 
 // Bad set-ups of a junction run are named errors with exit 2 that write nothing.
 TEST(WearJunctionInput, BadSetUpsAreNamedErrors) {

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -22,6 +24,8 @@ struct InputNode::Tracking {
   std::string source;                                     // file name, for messages
   std::set<std::string> read;                             // key paths consumed by a getter
   std::map<std::string, std::vector<std::string>> known;  // node path -> keys asked for, in order
+  bool any_unit = false;                                  // a quantity read with a unit ("73 GPa")
+  std::vector<std::string> plain;                         // "path = text" of dimensional quantities without one
 };
 
 namespace {
@@ -342,9 +346,17 @@ long to_integer(const YAML::Node& node, const std::string& path, const std::stri
   long value = 0;
   const auto [stop, ec] = std::from_chars(begin, end, value);
   if (ec == std::errc::result_out_of_range) throw fail(path, text, "out of the range of a whole number", location);
-  if (ec != std::errc() || stop != end || begin == end)
-    throw fail(path, text, "expected a whole number such as 42", location);
-  return value;
+  if (ec == std::errc() && stop == end && begin != end) return value;
+  // Exponent notation of a whole number ("1e9", "2.5e3"): taken when exact; "1.5" and "1e-3" are not whole.
+  if (text.find_first_of("eE") != std::string::npos) {
+    double d = 0;
+    const auto [dstop, dec] = std::from_chars(begin, end, d);
+    if (dec == std::errc() && dstop == end && std::isfinite(d) && d == std::floor(d)) {
+      if (std::fabs(d) > 9.0e18) throw fail(path, text, "out of the range of a whole number", location);
+      return static_cast<long>(d);
+    }
+  }
+  throw fail(path, text, "expected a whole number such as 42 (or 1e9)", location);
 }
 
 bool to_boolean(const YAML::Node& node, const std::string& path, const std::string& location) {
@@ -366,29 +378,68 @@ std::string to_choice(const YAML::Node& node, const std::string& path, const std
 
 }  // namespace
 
+void InputNode::observe(const YAML::Node& node, const std::string& path, units::Dimension dim) const {
+  if (dim == units::dimensionless) return;
+  const std::string suffix = "_seconds";  // a key that names its unit (output.progress_seconds)
+  if (path.size() >= suffix.size() && path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0) return;
+  if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i) observe(node[i], element_path(path, i), dim);
+    return;
+  }
+  if (!node.IsScalar()) return;
+  const std::string text = trim(node.Scalar());
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  const bool plain = !text.empty() && end == text.c_str() + text.size();
+  if (plain && value == 0.0) return;  // zero in any unit
+  if (!plain) {
+    tracking_->any_unit = tracking_->any_unit || text.find_first_of("0123456789") != std::string::npos;
+    return;
+  }
+  const std::string entry = path + " = " + text;
+  if (std::find(tracking_->plain.begin(), tracking_->plain.end(), entry) == tracking_->plain.end())
+    tracking_->plain.push_back(entry);
+}
+
+std::vector<std::string> InputNode::plain_beside_units() const {
+  return tracking_->any_unit ? tracking_->plain : std::vector<std::string>{};
+}
+
 double InputNode::quantity(const std::string& key, units::Dimension dim) const {
   const auto v = require(key, "a value in " + units::to_string(dim));
-  return to_quantity(v->node, v->path, v->location, dim);
+  const double q = to_quantity(v->node, v->path, v->location, dim);
+  observe(v->node, v->path, dim);
+  return q;
 }
 
 double InputNode::quantity(const std::string& key, units::Dimension dim, double fallback) const {
   const auto v = find(key);
-  return v ? to_quantity(v->node, v->path, v->location, dim) : fallback;
+  if (!v) return fallback;
+  const double q = to_quantity(v->node, v->path, v->location, dim);
+  observe(v->node, v->path, dim);
+  return q;
 }
 
 double InputNode::quantity(units::Dimension dim) const {
   const Value v = self();
-  return to_quantity(v.node, v.path, v.location, dim);
+  const double q = to_quantity(v.node, v.path, v.location, dim);
+  observe(v.node, v.path, dim);
+  return q;
 }
 
 Vec3 InputNode::vec3(const std::string& key, units::Dimension dim) const {
   const auto v = require(key, "[x, y, z] in " + units::to_string(dim));
-  return to_vec3(v->node, v->path, v->location, tracking_->source, dim);
+  const Vec3 q = to_vec3(v->node, v->path, v->location, tracking_->source, dim);
+  observe(v->node, v->path, dim);
+  return q;
 }
 
 Vec3 InputNode::vec3(const std::string& key, units::Dimension dim, Vec3 fallback) const {
   const auto v = find(key);
-  return v ? to_vec3(v->node, v->path, v->location, tracking_->source, dim) : fallback;
+  if (!v) return fallback;
+  const Vec3 q = to_vec3(v->node, v->path, v->location, tracking_->source, dim);
+  observe(v->node, v->path, dim);
+  return q;
 }
 
 long InputNode::integer(const std::string& key) const {
@@ -454,6 +505,7 @@ std::vector<double> InputNode::numbers(const std::string& key, units::Dimension 
     const std::string at = element.IsNull() ? v->location : where(tracking_->source, element);
     out.push_back(to_quantity(element, element_path(v->path, i), at, dim));
   }
+  observe(v->node, v->path, dim);
   return out;
 }
 
@@ -493,6 +545,41 @@ void check_read(const YAML::Node& node, const std::string& path, const std::stri
 }
 
 }  // namespace
+
+namespace {
+
+void mark_read(const YAML::Node& node, const std::string& path, std::set<std::string>& read) {
+  if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i) mark_read(node[i], element_path(path, i), read);
+    return;
+  }
+  if (!node.IsMap()) return;
+  for (const auto& entry : node) {
+    const std::string key_path = join(path, entry.first.Scalar());
+    read.insert(key_path);
+    mark_read(entry.second, key_path, read);
+  }
+}
+
+}  // namespace
+
+void InputNode::skip(const std::string& key) const {
+  const std::shared_ptr<const Value> v = find(key);
+  if (v) mark_read(v->node, v->path, tracking_->read);
+}
+
+std::string InputNode::yaml_of(const std::string& key) const {
+  if (!node_->IsMap()) return {};
+  for (const auto& entry : *node_) {
+    if (entry.first.Scalar() != key) continue;
+    YAML::Emitter out;
+    out.SetMapFormat(YAML::Flow);
+    out.SetSeqFormat(YAML::Flow);
+    out << entry.second;
+    return out.c_str();
+  }
+  return {};
+}
 
 void InputNode::reject_unknown_keys() const {
   check_read(*node_, path_, tracking_->source, tracking_->read, tracking_->known);

@@ -58,7 +58,7 @@ class InputNode {
   Vec3 vec3(const std::string& key, units::Dimension dim) const;
   Vec3 vec3(const std::string& key, units::Dimension dim, Vec3 fallback) const;
 
-  /// A whole number; "1.5", "1e3" and "abc" are errors.
+  /// A whole number, also in exponent notation when exact ("1e9", "2.5e3"); "1.5", "1e-3" and "abc" are errors.
   long integer(const std::string& key) const;
   long integer(const std::string& key, long fallback) const;
   /// This scalar node itself as a whole number (for the elements handed out by list()).
@@ -86,6 +86,17 @@ class InputNode {
   /// Copies of a node share what has been read, so the check can run on the root at the end of setup.
   void reject_unknown_keys() const;
 
+  /// Counts the whole subtree under `key` as read, unchecked (the parts of an input that a restart takes
+  /// from its checkpoint instead); nothing when absent.
+  void skip(const std::string& key) const;
+  /// The node under `key` as YAML text ("" when absent), to compare two inputs; does not count as reading.
+  std::string yaml_of(const std::string& key) const;
+
+  /// When some quantity read so far carried a unit, the dimensional ones read as plain numbers ("path =
+  /// text"), which are taken as they stand (SI, or the run's own coherent units); else empty. A file that
+  /// mixes the two may hold a forgotten unit, so the executables print them as a note.
+  std::vector<std::string> plain_beside_units() const;
+
  private:
   struct Tracking;
   struct Value;  // a node found under a key, with its path and its place in the file
@@ -97,6 +108,8 @@ class InputNode {
   std::shared_ptr<const Value> require(const std::string& key, const std::string& expected) const;
   /// This node itself as a Value, for the getters that read a list element directly.
   Value self() const;
+  /// Records whether a quantity (or each element of a list of them) was written with a unit.
+  void observe(const YAML::Node& node, const std::string& path, units::Dimension dim) const;
 
   std::shared_ptr<const YAML::Node> node_;
   std::string path_;

@@ -1,5 +1,6 @@
 #include "core/io/thermo_csv.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -46,7 +47,12 @@ ThermoCsv::ThermoCsv(const std::string& path, std::vector<std::string> columns, 
   while (std::getline(in, line)) {
     if (line.empty()) continue;
     const double step = std::strtod(line.c_str(), nullptr);
-    if (step <= static_cast<double>(keep_up_to_step)) kept += line + '\n';
+    if (step <= static_cast<double>(keep_up_to_step)) {
+      kept += line + '\n';
+    } else {
+      ++dropped_;
+      dropped_to_ = std::max(dropped_to_, static_cast<long>(step));
+    }
   }
   in.close();
   // Rewritten through a temporary file, so a crash here keeps the old table.

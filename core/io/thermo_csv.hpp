@@ -22,11 +22,15 @@ class ThermoCsv {
   void write_row(const std::vector<double>& values);
 
   const std::vector<std::string>& columns() const { return columns_; }
+  /// Rows the resuming constructor dropped (past keep_up_to_step), and the last step they reached.
+  long dropped_rows() const { return dropped_; }
+  long dropped_to_step() const { return dropped_to_; }
 
  private:
   std::string path_;
   std::vector<std::string> columns_;
   std::ofstream out_;
+  long dropped_ = 0, dropped_to_ = 0;
 };
 
 }  // namespace debris

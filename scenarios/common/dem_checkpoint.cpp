@@ -66,7 +66,8 @@ bool all_finite(const std::vector<double>& v) {
 
 }  // namespace
 
-void DemSimulation::write_checkpoint(const std::string& path, const std::string& input_echo) const {
+void DemSimulation::write_checkpoint(const std::string& path, const std::string& input_echo,
+                                     const std::function<void(h5::File&)>& extra) const {
   // The device's state, copied back (offload builds).
   particles_to_host();
   pairs_to_host();
@@ -163,11 +164,13 @@ void DemSimulation::write_checkpoint(const std::string& path, const std::string&
       hist.write("hy", history_.hy);
       hist.write("hz", history_.hz);
     }
+    if (extra) extra(f);
     f.close();
   });
 }
 
-DemSimulation DemSimulation::from_checkpoint(const std::string& path, std::string* input_echo) {
+DemSimulation DemSimulation::from_checkpoint(const std::string& path, std::string* input_echo,
+                                             const std::function<void(const h5::File&)>& extra) {
   return read_checkpoint_file(path, "debris_dem", [&] {
     h5::File f(path, h5::File::Mode::read_only);
     check_checkpoint(f.has_attribute("format_version"), path, "it is not a debris_dem checkpoint (no format_version)");
@@ -183,7 +186,9 @@ DemSimulation DemSimulation::from_checkpoint(const std::string& path, std::strin
                             "; this debris_dem reads formats " + std::to_string(kOldestFormat) + " to " +
                             std::to_string(kFormatVersion));
     check_checkpoint(f.has("particles"), path, "it is not a debris_dem checkpoint (no particles)");
-    return restore(f, input_echo);
+    DemSimulation sim = restore(f, input_echo);
+    if (extra) extra(f);
+    return sim;
   });
 }
 

@@ -156,6 +156,12 @@ void read_groups(const InputNode& root, DemRunConfig& cfg) {
   for (const InputNode& g : root.list("groups")) {
     Group group;
     group.name = g.string("name");
+    // The name heads thermo.csv columns (name_fx, ...): no CSV separators, quotes or line breaks in it.
+    if (group.name.empty() || group.name.find_first_of(",\"\n\r") != std::string::npos)
+      throw input_error(g.path() + ".name", "'" + group.name + "'",
+                        "a group name must be non-empty, without ',', '\"' or line breaks (it heads thermo.csv columns)");
+    for (const Group& other : cfg.groups.list)
+      if (other.name == group.name) throw input_error(g.path() + ".name", group.name, "two groups have this name");
     read_group_motion(g, cfg.box, group);
     // Membership: a region, particle types, or explicit ids (any combination narrows it down).
     Region region;
@@ -326,8 +332,37 @@ DemRunConfig read_dem_input(const std::string& path) {
   return read_dem_input(root, std::filesystem::path(path).parent_path().string());
 }
 
-DemRunConfig read_dem_input(const InputNode& root, const std::string& base_directory) {
-  DemRunConfig cfg;
+namespace {
+
+// The run keys a checkpoint fixes (DemSettings); the others (steps, threads, overlap_limit) apply at a restart.
+const std::vector<std::string> kPhysicsRunKeys{"time_step", "time_step_fraction", "allow_unstable_time_step",
+                                               "global_damping", "skin", "adhesive", "tangential"};
+
+// A restart: the parts of `root` the checkpoint fixes are skipped (never read: no data file is opened), and
+// those whose text differs from the input the checkpoint keeps are listed.
+void skip_restored_parts(const InputNode& root, const DemInputOptions& options, DemRunConfig& cfg) {
+  const InputNode echo = InputNode::load_string(options.checkpoint_echo, "the checkpoint's input");
+  for (const char* key : {"material", "particles", "box", "remove", "labels", "groups"}) {
+    if (root.yaml_of(key) != echo.yaml_of(key)) cfg.ignored_at_restart.push_back(key);
+    root.skip(key);
+  }
+  if (root.has("run")) {
+    const InputNode run = root.child("run");
+    const bool echo_run = echo.has("run");
+    for (const std::string& key : kPhysicsRunKeys) {
+      const std::string then = echo_run ? echo.child("run").yaml_of(key) : std::string();
+      if (run.yaml_of(key) != then) cfg.ignored_at_restart.push_back("run." + key);
+      run.skip(key);
+    }
+  }
+  cfg.box = options.restored->box();
+  cfg.groups = options.restored->groups();
+}
+
+
+// The system: material, particles (a lattice or a LAMMPS data file) wrapped into the box, carved, labelled,
+// grouped.
+void read_system(const InputNode& root, const std::string& base_directory, DemRunConfig& cfg) {
   cfg.settings.material = read_cohesive_material(root.child("material"), {}, {.required = true});
 
   // Particles: a built-in lattice or a LAMMPS data file (atom_style sphere).
@@ -362,16 +397,11 @@ DemRunConfig read_dem_input(const InputNode& root, const std::string& base_direc
   read_removal(root, cfg);
   read_labels(root, cfg);
   read_groups(root, cfg);
+  cfg.settings.masses_from_density = !masses_given;
+}
 
-  // Run control.
-  const InputNode run = root.child("run");
-  std::vector<InputNode> stage_nodes;
-  cfg.stages = read_stage_lengths(root, &stage_nodes);
-  for (const InputNode& st : stage_nodes) cfg.stage_changes.push_back(read_stage_changes(st, cfg));
-  // With stages, run.steps may stop the run early (a chunk of a long run); without, it is the length.
-  cfg.steps = cfg.stages.empty() || run.has("steps") ? run.integer("steps") : -1;
-  if (run.has("steps") && cfg.steps < 0) throw input_error("run.steps", std::to_string(cfg.steps), "must be >= 0");
-  DemSettings& s = cfg.settings;
+// The physics keys of `run`.
+void read_physics(const InputNode& run, DemSettings& s) {
   if (run.has("time_step") && run.has("time_step_fraction"))
     throw input_error("run.time_step", "given with time_step_fraction", "give one of time_step (absolute) or time_step_fraction (of dt_c)");
   s.time_step = run.quantity("time_step", units::time, 0.0);
@@ -386,7 +416,10 @@ DemRunConfig read_dem_input(const InputNode& root, const std::string& base_direc
   if (s.skin < 0.0) throw input_error("run.skin", format_value(s.skin), "must be >= 0");
   s.options.adhesive = run.boolean("adhesive", true) ? 1 : 0;
   s.options.tangential = run.boolean("tangential", true) ? 1 : 0;
-  s.masses_from_density = !masses_given;
+}
+
+// The health check's limit and the threads.
+void read_checks(const InputNode& run, DemRunConfig& cfg) {
   if (run.has("overlap_limit")) {
     if (run.child("overlap_limit").text() == "auto") {
       cfg.overlap_limit_auto = true;
@@ -399,34 +432,58 @@ DemRunConfig read_dem_input(const InputNode& root, const std::string& base_direc
   }
   cfg.threads = static_cast<int>(run.integer("threads", 0));
   if (cfg.threads < 0) throw input_error("run.threads", std::to_string(cfg.threads), "must be >= 0");
+}
 
+void read_output(const InputNode& out, DemOutputSettings& o) {
+  o.directory = out.string("directory", o.directory);
+  o.thermo_every = out.integer("thermo_every", o.thermo_every);
+  if (o.thermo_every < 1) throw input_error("output.thermo_every", std::to_string(o.thermo_every), "must be >= 1");
+  o.dump_every = out.integer("dump_every", o.dump_every);
+  if (o.dump_every < 0) throw input_error("output.dump_every", std::to_string(o.dump_every), "must be >= 0");
+  o.trajectory_every = out.integer("trajectory_every", 0);
+  if (o.trajectory_every < 0)
+    throw input_error("output.trajectory_every", std::to_string(o.trajectory_every), "must be >= 0");
+  o.checkpoint_every = out.integer("checkpoint_every", 0);
+  if (o.checkpoint_every < 0)
+    throw input_error("output.checkpoint_every", std::to_string(o.checkpoint_every), "must be >= 0");
+  o.progress_seconds = out.quantity("progress_seconds", units::time, 10.0);
+  if (!(o.progress_seconds > 0))
+    throw input_error("output.progress_seconds", format_value(o.progress_seconds), "must be > 0");
+}
+
+// Stages, run control, the wear analysis and output. `restored`: the physics keys of `run` were skipped.
+void read_run_control(const InputNode& root, DemRunConfig& cfg, bool restored) {
+  const InputNode run = root.child("run");
+  std::vector<InputNode> stage_nodes;
+  cfg.stages = read_stage_lengths(root, &stage_nodes);
+  for (const InputNode& st : stage_nodes) cfg.stage_changes.push_back(read_stage_changes(st, cfg));
+  // With stages, run.steps may stop the run early (a chunk of a long run); without, it is the length.
+  cfg.steps = cfg.stages.empty() || run.has("steps") ? run.integer("steps") : -1;
+  if (run.has("steps") && cfg.steps < 0) throw input_error("run.steps", std::to_string(cfg.steps), "must be >= 0");
+  if (!restored) read_physics(run, cfg.settings);
+  read_checks(run, cfg);
   if (root.has("wear")) cfg.wear = read_wear_settings(root.child("wear"));
+  if (root.has("output")) read_output(root.child("output"), cfg.output);
+}
 
-  if (root.has("output")) {
-    const InputNode out = root.child("output");
-    cfg.output.directory = out.string("directory", cfg.output.directory);
-    cfg.output.thermo_every = out.integer("thermo_every", cfg.output.thermo_every);
-    cfg.output.dump_every = out.integer("dump_every", cfg.output.dump_every);
-    if (cfg.output.thermo_every < 1)
-      throw input_error("output.thermo_every", std::to_string(cfg.output.thermo_every), "must be >= 1");
-    if (cfg.output.dump_every < 0)
-      throw input_error("output.dump_every", std::to_string(cfg.output.dump_every), "must be >= 0");
-    cfg.output.trajectory_every = out.integer("trajectory_every", 0);
-    if (cfg.output.trajectory_every < 0)
-      throw input_error("output.trajectory_every", std::to_string(cfg.output.trajectory_every), "must be >= 0");
-    cfg.output.checkpoint_every = out.integer("checkpoint_every", 0);
-    if (cfg.output.checkpoint_every < 0)
-      throw input_error("output.checkpoint_every", std::to_string(cfg.output.checkpoint_every), "must be >= 0");
-    cfg.output.progress_seconds = out.quantity("progress_seconds", units::time, 10.0);
-    if (!(cfg.output.progress_seconds > 0))
-      throw input_error("output.progress_seconds", format_value(cfg.output.progress_seconds), "must be > 0");
+}  // namespace
+
+DemRunConfig read_dem_input(const InputNode& root, const std::string& base_directory, const DemInputOptions& options) {
+  DemRunConfig cfg;
+  if (options.restored) {
+    skip_restored_parts(root, options, cfg);
+  } else {
+    read_system(root, base_directory, cfg);
   }
+  read_run_control(root, cfg, options.restored != nullptr);
   root.reject_unknown_keys();
+  cfg.plain_quantities = root.plain_beside_units();
   return cfg;
 }
 
-DemRunConfig read_dem_input_text(const std::string& text, const std::string& name, const std::string& base_directory) {
-  return read_dem_input(InputNode::load_string(text, name), base_directory);
+DemRunConfig read_dem_input_text(const std::string& text, const std::string& name, const std::string& base_directory,
+                                 const DemInputOptions& options) {
+  return read_dem_input(InputNode::load_string(text, name), base_directory, options);
 }
 
 }  // namespace debris

@@ -67,6 +67,23 @@ struct DemRunConfig {
   std::vector<DemStageChanges> stage_changes;  // one per stage
   std::optional<WearSettings> wear;            // the wear analysis (wear.csv), when the input has `wear:`
   DemOutputSettings output;
+  /// A restart's input keys that the checkpoint overrides and whose text differs from the input the
+  /// checkpoint keeps ("material", "run.time_step"): the runner names them in one line.
+  std::vector<std::string> ignored_at_restart;
+  /// Dimensional values given as plain numbers in a file that gives others with units (InputNode::
+  /// plain_beside_units): printed as a note, since one may be a forgotten unit.
+  std::vector<std::string> plain_quantities;
+};
+
+/// How an input is read: for a fresh run, or for a restart from `restored`.
+struct DemInputOptions {
+  /// A restart: the system (particles, box, remove, labels, groups), the material and the physics keys of
+  /// `run` (time step, damping, skin, pair-law switches) come from this checkpoint's simulation. Those parts
+  /// of the input are not read, so no data file is opened; the ones that differ from `checkpoint_echo`
+  /// (the input the checkpoint keeps) are listed in DemRunConfig::ignored_at_restart. Stages, `wear`,
+  /// `output`, run.steps, run.threads and run.overlap_limit are read and applied.
+  const DemSimulation* restored = nullptr;
+  std::string checkpoint_echo;
 };
 
 /// Reads a group's motion from `node` into `group`: `motion` (free | frozen | velocity | force, default
@@ -81,9 +98,10 @@ void read_group_motion(const InputNode& node, const Box& box, Group& group);
 /// Reads the whole file; InputError naming the key and the value for anything missing, malformed,
 /// out of range or unknown. Relative paths inside it (a LAMMPS data file) are relative to the file.
 DemRunConfig read_dem_input(const std::string& path);
-DemRunConfig read_dem_input(const InputNode& root, const std::string& base_directory);
+DemRunConfig read_dem_input(const InputNode& root, const std::string& base_directory, const DemInputOptions& options = {});
 
 /// Reads the input from its text (the echo a checkpoint keeps); `name` stands for the file in messages.
-DemRunConfig read_dem_input_text(const std::string& text, const std::string& name, const std::string& base_directory);
+DemRunConfig read_dem_input_text(const std::string& text, const std::string& name, const std::string& base_directory,
+                                 const DemInputOptions& options = {});
 
 }  // namespace debris

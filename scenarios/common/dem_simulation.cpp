@@ -90,12 +90,43 @@ void DemSimulation::setup() {
   list_.set_max_size_classes(settings_.size_classes);
 
   rebuild_neighbors();
+  refuse_coincident_particles();
   compute_forces(0);
 }
 
-void DemSimulation::set_global_damping(double fraction) {
+void DemSimulation::refuse_coincident_particles() const {
+  // Two particles at one place (a repeated row of a data file) have no direction between them: eq 2's
+  // normal is 0 / 0. Found among the listed pairs (every pair closer than the cutoff is listed).
+  particles_to_host();
+  pairs_to_host();
+  const BoxView b = box_.view();
+  for (int i = 0; i < list_.rows(); ++i)
+    for (int k = list_.offset()[i]; k < list_.offset()[i + 1]; ++k) {
+      const std::size_t a = static_cast<std::size_t>(i), c = static_cast<std::size_t>(list_.index()[k]);
+      const Vec3 d = minimum_image(b, Vec3{p_.x[a] - p_.x[c], p_.y[a] - p_.y[c], p_.z[a] - p_.z[c]});
+      if (norm(d) > 1e-6 * std::min(p_.radius[a], p_.radius[c])) continue;
+      throw input_error("particles", "particles id " + std::to_string(p_.id[a]) + " and id " + std::to_string(p_.id[c]),
+                        "both sit at (" + format_value(p_.x[a]) + ", " + format_value(p_.y[a]) + ", " +
+                            format_value(p_.z[a]) + "): a repeated particle (a duplicated row of the data file?)");
+    }
+}
+
+void DemSimulation::check_global_damping(double fraction, const std::string& key) const {
   if (!(fraction >= 0.0) || !std::isfinite(fraction))
-    throw input_error("run.global_damping", format_value(fraction), "must be a fraction >= 0 of the critical damping");
+    throw input_error(key, format_value(fraction), "must be a fraction >= 0 of the critical damping c_c (eq 21)");
+  if (fraction == 0.0) return;
+  particles_to_host();  // the masses
+  const double m_min = *std::min_element(p_.mass.begin(), p_.mass.end());
+  const double bound = m_min / (limits_.c_c * dt_);
+  if (!(fraction < bound))
+    throw input_error(key, format_value(fraction),
+                      "must stay below " + format_value(bound) + " c_c: the damping -c v then takes less than a "
+                      "particle's whole velocity in one step (c_c dt / m_min = " + format_value(1.0 / bound) +
+                      ", time step " + format_value(dt_) + "; the paper's relaxations use 0.1-0.2 c_c)");
+}
+
+void DemSimulation::set_global_damping(double fraction) {
+  check_global_damping(fraction, "run.global_damping");
   settings_.global_damping = fraction;
   damping_ = fraction * limits_.c_c;
 }
@@ -225,7 +256,8 @@ std::string DemSimulation::health_check(const CohesiveDiagnostics& diag, double 
     const std::size_t b = static_cast<std::size_t>(bad);
     std::ostringstream os;
     os << "non-finite state at step " << step_ << " on particle id " << p_.id[b] << " (x = " << p_.x[b]
-       << ", v = " << p_.vx[b] << ", f = " << p_.fx[b] << "); is the time step stable?";
+       << ", v = " << p_.vx[b] << ", f = " << p_.fx[b] << ")"
+       << (step_ == 0 ? ": the set-up itself is not finite" : "; is the time step stable?");
     return os.str();
   }
   particles_to_host();  // the radii (a re-sort leaves the host's copies stale)
@@ -242,9 +274,12 @@ std::string DemSimulation::health_check(const CohesiveDiagnostics& diag, double 
       const double overlap = p_.radius[a] + p_.radius[c] - norm(d);
       if (overlap > overlap_limit * std::min(p_.radius[a], p_.radius[c])) {
         std::ostringstream os;
-        os << "exploding overlap at step " << step_ << ": particles id " << p_.id[a] << " and id " << p_.id[c]
-           << " overlap by " << overlap << " (radii " << p_.radius[a] << ", " << p_.radius[c]
-           << "); is the time step stable, or the load too large?";
+        os << (step_ == 0 ? "too deep an overlap" : "exploding overlap") << " at step " << step_ << ": particles id " << p_.id[a] << " and id " << p_.id[c]
+           << " overlap by " << overlap << " (radii " << p_.radius[a] << ", " << p_.radius[c] << ")"
+           << (step_ == 0 ? ", deeper than run.overlap_limit (" + format_value(overlap_limit) +
+                                " smallest radii) as placed: place them farther apart, or raise the limit (auto: the "
+                                "deepest initial overlap + 1)"
+                          : "; is the time step stable, or the load too large?");
         return os.str();
       }
     }

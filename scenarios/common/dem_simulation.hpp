@@ -14,6 +14,7 @@
 // as edited, so the next step, rebuild or force evaluation sends it to the device first (to_device).
 // Checkpoints, health-check messages and summary() go through the same two points.
 #include <chrono>
+#include <functional>
 #include <string>
 
 #include "core/box.hpp"
@@ -121,8 +122,13 @@ class DemSimulation {
   PairPass pair_pass() const { return pass_; }
   /// Bytes held per particle by particles, neighbour list, history, pair table and pass scratch.
   double bytes_per_particle() const;
-  /// Changes the global damping fraction (relaxation phases).
+  /// Changes the global damping fraction (relaxation phases); check_global_damping() first.
   void set_global_damping(double fraction);
+  /// InputError naming `key` unless 0 <= fraction and the damping F = -fraction c_c v slows every particle
+  /// by less than its own velocity in one step: fraction c_c dt / m_min < 1 (c_c of eq 21). Past it the
+  /// velocity flips sign each step, and past twice it grows without bound. The one check of the run key,
+  /// the stage key and the setter.
+  void check_global_damping(double fraction, const std::string& key) const;
   /// Switches the pair law's adhesion and tangential parts (relaxation phases); takes effect at the next
   /// force evaluation (call recompute_forces() to apply it to the current step).
   void set_options(const CohesiveOptions& options);
@@ -145,9 +151,14 @@ class DemSimulation {
   /// Writes everything needed to continue bit for bit (particles, box, groups and their state, neighbour
   /// list, contact history, step, time, settings, and the input file's text) to `path` atomically: into
   /// `path`.tmp, closed, then renamed, so a crash mid-write leaves the previous checkpoint whole.
-  void write_checkpoint(const std::string& path, const std::string& input_echo) const;
-  /// Continues from a checkpoint exactly where it was written. `input_echo` receives the input text.
-  static DemSimulation from_checkpoint(const std::string& path, std::string* input_echo = nullptr);
+  /// `extra` (may be empty) writes what the run keeps beside the system (its `run` group: the health check's
+  /// limit, the wear analysis's state) into the open file.
+  void write_checkpoint(const std::string& path, const std::string& input_echo,
+                        const std::function<void(h5::File&)>& extra = {}) const;
+  /// Continues from a checkpoint exactly where it was written. `input_echo` receives the input text;
+  /// `extra` (may be empty) reads what write_checkpoint's `extra` wrote (its errors name the file).
+  static DemSimulation from_checkpoint(const std::string& path, std::string* input_echo = nullptr,
+                                       const std::function<void(const h5::File&)>& extra = {});
 
   /// One-paragraph summary: N, dt and dt_c, c_c, skin, cutoff, calibration of the smallest pair.
   std::string summary() const;
@@ -158,6 +169,7 @@ class DemSimulation {
   /// from_checkpoint() once the file is known to be a checkpoint of a format this version reads.
   static DemSimulation restore(const h5::File& f, std::string* input_echo);
   void compute_forces(int update_history);
+  void refuse_coincident_particles() const;
   void rebuild(const std::vector<int>* order);
   void index_half_pass();  // pair table and pass scratch of the half-list pass, after a build
   // Residency (offload builds; empty in host builds). The host copies of the particles, and of the list and

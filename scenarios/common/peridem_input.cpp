@@ -540,6 +540,7 @@ PeridemRunConfig read_peridem_input(const InputNode& root, const std::string& ba
   }
   if (!options.output_directory.empty()) cfg.output.directory = options.output_directory;
   root.reject_unknown_keys();
+  cfg.plain_quantities = root.plain_beside_units();
   if (!options.build_system) return cfg;
 
   // The system: every key is known to be sound; now the files.

@@ -109,6 +109,8 @@ struct PeridemRunConfig {
   int threads = 0;                       // 0 = OpenMP default
   double penetration_limit = 0.5;        // health check: a node pair closer than (1 - this) R_c stops the run
   PeridemOutputSettings output;
+  /// Dimensional values given as plain numbers beside others with units (InputNode::plain_beside_units).
+  std::vector<std::string> plain_quantities;
 };
 
 struct PeridemInputOptions {

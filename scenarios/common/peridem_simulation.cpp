@@ -522,7 +522,14 @@ long PeridemSimulation::touching_pairs() const {
   return pd_touching_pairs(table_, nodes_, grains_, list_);
 }
 
+double PeridemSimulation::deepest_penetration() const {
+  state_to_device();
+  return pd_deepest_penetration(table_, nodes_, grains_, list_);
+}
+
 std::string PeridemSimulation::penetration_check(double limit) const {
+  // The reduction first (on the device in offload builds); the pair is looked for only when one is too deep.
+  if (!(deepest_penetration() > limit)) return {};
   std::string problem;
   for_each_listed_pair([&](int i, int j, double dist, double rc) {
     const int gi = nodes_.grain[i], gj = nodes_.grain[j];
@@ -532,9 +539,11 @@ std::string PeridemSimulation::penetration_check(double limit) const {
     os << "step " << step_ << ": node " << nodes_.id[i] << " of '" << grain_names_[static_cast<std::size_t>(gi)]
        << "' and node " << nodes_.id[j] << " of '" << grain_names_[static_cast<std::size_t>(gj)] << "' are " << dist
        << " m apart, " << (rc - dist) / rc << " of the contact radius " << rc << " m deep (run.penetration_limit "
-       << limit
-       << "): one body is passing through the other (a time step too large for the speeds, or a stiffness too "
-          "small for the load)";
+       << limit << ")"
+       << (step_ == 0 ? " as placed: the two bodies start inside each other (a repeated row of the particle list, or "
+                        "grains placed closer than R_c apart)"
+                      : ": one body is passing through the other (a time step too large for the speeds, or a "
+                        "stiffness too small for the load)");
     problem = os.str();
     return false;
   });

@@ -182,6 +182,8 @@ class PeridemSimulation {
   /// spring holds pairs to a few per cent of R_c), so a grain is passing through another or through a wall.
   /// Names the step, the bodies and the nodes. limit in (0, 1]; 1 never fires.
   std::string penetration_check(double limit) const;
+  /// The deepest penetration of two bodies as a fraction of R_c (pd_deepest_penetration; 0: none).
+  double deepest_penetration() const;
   /// Empty unless some particle node moves farther than the contact radius R_c in one step (|v| dt > R_c):
   /// contacts would be stepped over, so the run has blown up (or its time step is far too large for the
   /// speeds). Names the step and the node.

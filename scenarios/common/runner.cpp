@@ -66,6 +66,13 @@ int run_plan(RunPlan& plan, const std::string& program, const RunOptions& opt, C
     return kExitUnfinished;
   };
   auto due = [](long every, long step) { return every > 0 && step % every == 0; };
+  // The set-up as built, before any file is written: a state that cannot run is bad input.
+  if (!plan.restored) {
+    const std::string problem = model.health_check();
+    if (!problem.empty())
+      throw input_error(model.setup_key(), "the state at step " + std::to_string(first_step),
+                        problem + " (nothing was written)");
+  }
   try {
     {
       std::error_code ec;
@@ -80,6 +87,9 @@ int run_plan(RunPlan& plan, const std::string& program, const RunOptions& opt, C
     ThermoCsv thermo =
         plan.restored ? ThermoCsv((dir / "thermo.csv").string(), cols, keep_first_row ? first_step : first_step - 1)
                       : ThermoCsv((dir / "thermo.csv").string(), cols);
+    if (thermo.dropped_to_step() > first_step)
+      std::cout << "thermo.csv: its rows after step " << first_step << ", up to step " << thermo.dropped_to_step()
+                << " (written by a run that went on past this checkpoint), are dropped; so are the other tables'\n";
     const std::string suffix = plan.restored ? ".restart" + std::to_string(first_step) : "";
     model.open_frames(dir.string(), suffix);
 
@@ -133,6 +143,7 @@ int run_plan(RunPlan& plan, const std::string& program, const RunOptions& opt, C
           std::cout << m << ", from step " << model.step_count() << std::endl;
       const long step = model.step_count();
       const bool final_step = step == last_step;
+      if (const std::string problem = model.step_check(); !problem.empty()) return stop(problem);
       if (final_step || due(plan.thermo_every, step) || model.frame_due(step) || due(plan.checkpoint_every, step) ||
           stage_starts(step) > 0) {
         const std::string problem = model.health_check();
@@ -209,7 +220,9 @@ int run_main(int argc, char** argv, const std::string& program, const std::strin
   app.add_option("--restart", opt.restart,
                  "continue from a checkpoint (state and physics from it; run.steps, a total, stages and output "
                  "from -i or the input it keeps)");
-  app.add_option("--threads", opt.threads, "number of host threads (overrides run.threads)")
+  app.add_option("--threads", opt.threads,
+                 "number of host threads (overrides run.threads; 0, the default: run.threads, else "
+                 "OMP_NUM_THREADS, else tuned while stepping)")
       ->check(CLI::NonNegativeNumber);
   if (const int status = parse_command_line(app, argc, argv); status >= 0) return status;
   if (opt.input.empty() && opt.restart.empty()) {
@@ -221,6 +234,12 @@ int run_main(int argc, char** argv, const std::string& program, const std::strin
   return exit_status_of(program, [&] {
     const auto started = Clock::now();
     RunPlan plan = prepare(opt);
+    // A restart without -o continues where its checkpoint is (the thermo rows to continue are there),
+    // from whatever directory it is started.
+    if (!opt.restart.empty() && opt.output.empty()) {
+      const std::filesystem::path parent = std::filesystem::path(opt.restart).parent_path();
+      plan.directory = parent.empty() ? "." : parent.string();
+    }
     return run_plan(plan, program, opt, started);
   });
 }

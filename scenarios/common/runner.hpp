@@ -50,6 +50,12 @@ class RunModel {
   /// Empty when the state is sound; otherwise a message naming the step and the particle or node. Called
   /// before anything is written from a step, so no output ever holds a broken state.
   virtual std::string health_check() = 0;
+  /// The input key a failed check of the set-up names ("particles", "grains"): a fresh run's step-0 state
+  /// is checked before any file is written, and a set-up that fails is bad input (exit 2).
+  virtual std::string setup_key() const = 0;
+  /// A check cheap enough for every step (PeriDEM's penetration of one body into another, which a sampled
+  /// check lets pass between samples); empty when sound. Called after every step.
+  virtual std::string step_check() { return {}; }
 
   virtual std::vector<std::string> thermo_columns() const = 0;
   /// The thermo row of the current step (may reuse what health_check() computed at this step).

@@ -6,8 +6,10 @@
 #include <cmath>
 #include <numeric>
 #include <sstream>
+#include <stdexcept>
 
 #include "core/error.hpp"
+#include "core/io/hdf5_file.hpp"
 #include "core/io/input.hpp"
 #include "scenarios/common/dem_simulation.hpp"
 
@@ -97,10 +99,18 @@ WearSettings read_wear_settings(const InputNode& n) {
   read_range(n, "rolling_number", s.rolling_number_min, s.rolling_number_max);
   s.max_residual = n.quantity("max_residual", units::dimensionless, s.max_residual);
   if (!(s.max_residual > 0)) throw input_error(n.path() + ".max_residual", format_value(s.max_residual), "must be > 0");
+  s.residual_floor = n.quantity("residual_floor", units::dimensionless, s.residual_floor);
+  if (!(s.residual_floor > 0) || !std::isfinite(s.residual_floor))
+    throw input_error(n.path() + ".residual_floor", format_value(s.residual_floor),
+                      "must be > 0 (a fraction of the walls' relative displacement over the window)");
+  s.verdict_span = n.quantity("verdict_span", units::time, 0.5 * s.window);
+  if (!(s.verdict_span >= 0) || !std::isfinite(s.verdict_span))
+    throw input_error(n.path() + ".verdict_span", format_value(s.verdict_span), "must be >= 0 (a time; 0: the last sample alone)");
   return s;
 }
 
 WearAnalysis::WearAnalysis(const WearSettings& settings, const DemSimulation& sim) : s_(settings) {
+  if (s_.verdict_span < 0) s_.verdict_span = 0.5 * s_.window;
   bottom_ = sim.groups().find(s_.bottom_wall);
   top_ = sim.groups().find(s_.top_wall);
   if (bottom_ < 0) throw input_error("wear.bottom_wall", s_.bottom_wall, "no such group");
@@ -111,13 +121,18 @@ WearAnalysis::WearAnalysis(const WearSettings& settings, const DemSimulation& si
   const auto it = std::find(labels.begin(), labels.end(), s_.junction_label);
   if (it == labels.end()) throw input_error("wear.junction_label", s_.junction_label, "no such label");
   const int junction = static_cast<int>(it - labels.begin()) + 1;  // label k names label_names[k - 1]
+  std::vector<std::pair<std::int64_t, double>> members;  // (id, volume)
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (p.id[i] < 0 || p.id[i] >= (std::int64_t{1} << 32))
       throw input_error("wear", "particle id " + std::to_string(p.id[i]), "the analysis needs ids in [0, 2^32)");
     if (p.label[i] != junction) continue;
     junction_ids_.insert(p.id[i]);
-    junction_volume_ += 4.0 / 3.0 * kPi * p.radius[i] * p.radius[i] * p.radius[i];
+    members.emplace_back(p.id[i], 4.0 / 3.0 * kPi * p.radius[i] * p.radius[i] * p.radius[i]);
   }
+  // Summed in id order: a restart, whose particles are stored in another order than at step 0, gets the
+  // same bits.
+  std::sort(members.begin(), members.end());
+  for (const auto& m : members) junction_volume_ += m.second;
   if (junction_ids_.empty()) throw input_error("wear.junction_label", s_.junction_label, "labels no particle");
   // A wall reaching into the junction (thicker than its slab) would hold the junction rigidly.
   for (std::size_t i = 0; i < p.size(); ++i) {
@@ -295,7 +310,7 @@ const WearSample& WearAnalysis::sample(const DemSimulation& sim) {
         res2 += p.mass[i] * e.squaredNorm();
         spread2 += p.mass[i] * norm2(b - a);
       }
-      const double scale = std::max(std::sqrt(spread2 / mass), 0.25 * std::abs(relative));
+      const double scale = std::max(std::sqrt(spread2 / mass), s_.residual_floor * std::abs(relative));
       // The rotation angle about the rolling axis n x s (positive when the body rolls with the wall).
       const Eigen::AngleAxisd aa(R);
       const Vec3 roll_axis = cross(axis_vector(s_.normal_axis), axis_vector(s_.sliding_axis));
@@ -315,13 +330,40 @@ const WearSample& WearAnalysis::sample(const DemSimulation& sim) {
     }
   }
 
-  // 4. The verdict: a third body (enough of the junction, moving rigidly) that rolls, or not.
+  // 4. This sample's own verdict: a third body (enough of the junction, moving rigidly) that rolls, or not.
+  auto judge = [&](double volume, double residual, double centre_speed, double rolling_number) {
+    if (volume < s_.min_volume_fraction || residual > s_.max_residual) return WearVerdict::ductile;
+    const bool rolls = centre_speed >= s_.centre_speed_min && centre_speed <= s_.centre_speed_max &&
+                       rolling_number >= s_.rolling_number_min && rolling_number <= s_.rolling_number_max;
+    return rolls ? WearVerdict::rolling : WearVerdict::detached;
+  };
   samples_.push_back(out);
   WearSample& last = samples_.back();
-  if (last.kinematics && last.third_volume >= s_.min_volume_fraction && last.residual <= s_.max_residual) {
-    const bool rolls = last.centre_speed >= s_.centre_speed_min && last.centre_speed <= s_.centre_speed_max &&
-                       last.rolling_number >= s_.rolling_number_min && last.rolling_number <= s_.rolling_number_max;
-    last.verdict = rolls ? WearVerdict::rolling : WearVerdict::detached;
+  if (last.kinematics)
+    last.sample_verdict = judge(last.third_volume, last.residual, last.centre_speed, last.rolling_number);
+
+  // 5. The verdict over the last verdict_span: a candidate holding enough of the junction at every sample
+  // of it (and samples back to its start), judged on its means.
+  const double from = last.time - s_.verdict_span * (1 + 1e-9);
+  std::size_t first = samples_.size() - 1;
+  while (first > 0 && samples_[first - 1].time >= from) --first;
+  const bool covered = samples_[first].time <= last.time - s_.verdict_span * (1 - 1e-9);
+  bool held = covered;
+  double residual = 0, centre = 0, rolling = 0, min_volume = 1;
+  for (std::size_t k = first; k < samples_.size() && held; ++k) {
+    const WearSample& w = samples_[k];
+    held = w.kinematics && w.third_volume >= s_.min_volume_fraction;
+    residual += w.residual;
+    centre += w.centre_speed;
+    rolling += w.rolling_number;
+    min_volume = std::min(min_volume, w.third_volume);
+  }
+  if (held) {
+    const double count = static_cast<double>(samples_.size() - first);
+    last.mean_residual = residual / count;
+    last.mean_centre_speed = centre / count;
+    last.mean_rolling_number = rolling / count;
+    last.verdict = judge(min_volume, last.mean_residual, last.mean_centre_speed, last.mean_rolling_number);
   }
   return last;
 }
@@ -330,14 +372,17 @@ std::vector<std::string> WearAnalysis::columns() {
   return {"step",           "time",           "wall_force",        "wall_slide",       "wall_normal",
           "bonded_pairs",   "walls_joined",   "junction_in_bottom", "junction_in_top", "junction_in_third",
           "third_particles", "third_volume",  "third_from_junction", "centre_speed",    "spin",
-          "rolling_number", "residual",       "verdict"};
+          "rolling_number", "residual",       "verdict",           "sample_verdict",   "mean_centre_speed",
+          "mean_rolling_number", "mean_residual"};
 }
 
 std::vector<double> WearAnalysis::row(const WearSample& s) {
   return {static_cast<double>(s.step), s.time, s.wall_force, s.wall_slide, s.wall_normal,
           static_cast<double>(s.bonded_pairs), s.walls_joined ? 1.0 : 0.0, s.junction_in_bottom, s.junction_in_top,
           s.junction_in_third, static_cast<double>(s.third_particles), s.third_volume, s.third_from_junction,
-          s.centre_speed, s.spin, s.rolling_number, s.residual, static_cast<double>(static_cast<int>(s.verdict))};
+          s.centre_speed, s.spin, s.rolling_number, s.residual, static_cast<double>(static_cast<int>(s.verdict)),
+          static_cast<double>(static_cast<int>(s.sample_verdict)), s.mean_centre_speed, s.mean_rolling_number,
+          s.mean_residual};
 }
 
 WearVerdict WearAnalysis::verdict() const { return samples_.empty() ? WearVerdict::ductile : samples_.back().verdict; }
@@ -367,6 +412,13 @@ std::string WearAnalysis::report() const {
        << s_.rolling_number_min << ", " << s_.rolling_number_max << "]\n";
   else
     os << "wear: no candidate third body over the last " << s_.window << " s\n";
+  if (last.verdict != WearVerdict::ductile)
+    os << "wear: over the last " << s_.verdict_span << " s (the verdict's span) its means: residual "
+       << last.mean_residual << ", centre speed " << last.mean_centre_speed << ", rolling number "
+       << last.mean_rolling_number << "\n";
+  else
+    os << "wear: no rigid candidate holding enough of the junction at every sample of the last "
+       << s_.verdict_span << " s (the verdict's span)\n";
   const long k = detection_index();
   if (k >= 0) {
     const WearSample& d = samples_[static_cast<std::size_t>(k)];
@@ -378,6 +430,154 @@ std::string WearAnalysis::report() const {
      << last.junction_in_third << " to neither; "
      << (last.walls_joined ? "a chain of them joins the walls" : "no chain of them joins the walls");
   return os.str();
+}
+
+namespace {
+
+std::vector<double> sample_values(const WearSample& s) {
+  std::vector<double> v = WearAnalysis::row(s);
+  v.push_back(s.kinematics ? 1.0 : 0.0);
+  return v;
+}
+
+WearVerdict verdict_of(double v) {
+  const int k = static_cast<int>(v);
+  if (v != k || k < 0 || k > 2) throw std::invalid_argument("no verdict");
+  return static_cast<WearVerdict>(k);
+}
+
+WearSample sample_from(const double* v) {
+  WearSample s;
+  s.step = static_cast<long>(v[0]);
+  s.time = v[1];
+  s.wall_force = v[2];
+  s.wall_slide = v[3];
+  s.wall_normal = v[4];
+  s.bonded_pairs = static_cast<long>(v[5]);
+  s.walls_joined = v[6] != 0;
+  s.junction_in_bottom = v[7];
+  s.junction_in_top = v[8];
+  s.junction_in_third = v[9];
+  s.third_particles = static_cast<long>(v[10]);
+  s.third_volume = v[11];
+  s.third_from_junction = v[12];
+  s.centre_speed = v[13];
+  s.spin = v[14];
+  s.rolling_number = v[15];
+  s.residual = v[16];
+  s.verdict = verdict_of(v[17]);
+  s.sample_verdict = verdict_of(v[18]);
+  s.mean_centre_speed = v[19];
+  s.mean_rolling_number = v[20];
+  s.mean_residual = v[21];
+  s.kinematics = v[22] != 0;
+  return s;
+}
+
+constexpr std::size_t kSampleValues = 23;
+
+}  // namespace
+
+WearState WearAnalysis::state() const {
+  WearState st;
+  std::vector<std::pair<std::uint64_t, long>> pairs(streak_.begin(), streak_.end());
+  std::sort(pairs.begin(), pairs.end());
+  for (const auto& [key, since] : pairs) {
+    st.streak_a.push_back(static_cast<std::int64_t>(key >> 32));
+    st.streak_b.push_back(static_cast<std::int64_t>(key & 0xffffffffu));
+    st.streak_since.push_back(since);
+  }
+  for (const auto& [t, positions] : history_) {
+    std::vector<std::pair<std::int64_t, Vec3>> by_id(positions.begin(), positions.end());
+    std::sort(by_id.begin(), by_id.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    st.history_time.push_back(t);
+    st.history_count.push_back(static_cast<std::int64_t>(by_id.size()));
+    for (const auto& [id, x] : by_id) {
+      st.history_id.push_back(id);
+      st.history_position.insert(st.history_position.end(), {x.x, x.y, x.z});
+    }
+  }
+  for (const WearSample& w : samples_) {
+    const std::vector<double> v = sample_values(w);
+    st.samples.insert(st.samples.end(), v.begin(), v.end());
+  }
+  st.sample_count = samples_.size();
+  return st;
+}
+
+void WearAnalysis::restore(const WearState& st, const std::string& path) {
+  auto check = [&](bool ok, const std::string& what) {
+    if (!ok) throw input_error("restart", path, "is not a sound checkpoint: wear/" + what);
+  };
+  check(st.streak_a.size() == st.streak_b.size() && st.streak_a.size() == st.streak_since.size(),
+        "streak arrays differ in length");
+  check(st.history_time.size() == st.history_count.size(), "history_time and history_count differ in length");
+  std::int64_t ids = 0;
+  for (std::int64_t c : st.history_count) {
+    check(c >= 0, "history_count holds a negative count");
+    ids += c;
+  }
+  check(st.history_id.size() == static_cast<std::size_t>(ids) && st.history_position.size() == 3 * st.history_id.size(),
+        "history_id / history_position do not hold history_count's particles");
+  check(st.samples.size() == kSampleValues * st.sample_count, "samples do not hold " + std::to_string(kSampleValues) +
+                                                                  " values per sample");
+  std::unordered_map<std::uint64_t, long> streak;
+  for (std::size_t k = 0; k < st.streak_a.size(); ++k) {
+    check(st.streak_a[k] >= 0 && st.streak_b[k] >= 0 && st.streak_a[k] < (std::int64_t{1} << 32) &&
+              st.streak_b[k] < (std::int64_t{1} << 32),
+          "streak ids outside [0, 2^32)");
+    streak.emplace(pair_key(st.streak_a[k], st.streak_b[k]), static_cast<long>(st.streak_since[k]));
+  }
+  std::deque<std::pair<double, std::unordered_map<std::int64_t, Vec3>>> history;
+  std::size_t at = 0;
+  for (std::size_t s = 0; s < st.history_time.size(); ++s) {
+    std::unordered_map<std::int64_t, Vec3> positions;
+    positions.reserve(static_cast<std::size_t>(st.history_count[s]));
+    for (std::int64_t k = 0; k < st.history_count[s]; ++k, ++at)
+      positions.emplace(st.history_id[at], Vec3{st.history_position[3 * at], st.history_position[3 * at + 1],
+                                                st.history_position[3 * at + 2]});
+    history.emplace_back(st.history_time[s], std::move(positions));
+  }
+  std::vector<WearSample> samples;
+  try {
+    for (std::size_t k = 0; k < st.sample_count; ++k) samples.push_back(sample_from(&st.samples[kSampleValues * k]));
+  } catch (const std::invalid_argument&) {
+    check(false, "samples hold a verdict that is none of 0, 1, 2");
+  }
+  streak_ = std::move(streak);
+  history_ = std::move(history);
+  samples_ = std::move(samples);
+}
+
+void write_wear_state(h5::Location& at, const WearState& st) {
+  h5::Group g = at.create_group("wear");
+  g.write("streak_a", st.streak_a);
+  g.write("streak_b", st.streak_b);
+  g.write("streak_since", st.streak_since);
+  g.write("history_time", st.history_time);
+  g.write("history_count", st.history_count);
+  g.write("history_id", st.history_id);
+  g.write("history_position", st.history_position);
+  g.write("samples", st.samples);
+  g.write_scalar<std::int64_t>("sample_count", static_cast<std::int64_t>(st.sample_count));
+}
+
+std::optional<WearState> read_wear_state(const h5::Location& at) {
+  if (!at.has("wear")) return std::nullopt;
+  const h5::Group g = at.open_group("wear");
+  WearState st;
+  st.streak_a = g.read<std::int64_t>("streak_a").values;
+  st.streak_b = g.read<std::int64_t>("streak_b").values;
+  st.streak_since = g.read<std::int64_t>("streak_since").values;
+  st.history_time = g.read<double>("history_time").values;
+  st.history_count = g.read<std::int64_t>("history_count").values;
+  st.history_id = g.read<std::int64_t>("history_id").values;
+  st.history_position = g.read<double>("history_position").values;
+  st.samples = g.read<double>("samples").values;
+  const auto count = g.read_scalar<std::int64_t>("sample_count");
+  if (count < 0) throw std::runtime_error("wear/sample_count is negative");
+  st.sample_count = static_cast<std::size_t>(count);
+  return st;
 }
 
 }  // namespace debris

@@ -29,10 +29,19 @@
 //   ductile: no rigid candidate holding enough of the junction.
 // omega is the spin about n x s (normal x sliding direction), positive when the body rolls with the wall.
 //
+// Each sample's own fit gives its `sample_verdict`; the verdict of the run at a sample is decided over the
+// last `verdict_span` (default half the window): a rigid candidate holding enough of the junction at every
+// sample of the span, judged on the span's means of residual, centre speed and rolling number. One sample's
+// fit never decides alone: the rolling junctions' windows sit within 0.02-0.2 of a threshold.
+//
+// The analysis's state (the samples so far, the positions of the window, the pairs' range streaks) goes
+// into every checkpoint (state() / restore()), so a restarted run writes the wear.csv of the run in one piece.
+//
 // Also reported, as diagnostics: clusters of range-persistent pairs ("bonds": in range at every sample for
 // `persistence`), which hold each wall and where the junction's volume is bonded.
 #include <cstdint>
 #include <deque>
+#include <optional>
 #include <string>
 #include <utility>
 #include <unordered_map>
@@ -45,6 +54,9 @@ namespace debris {
 
 class DemSimulation;
 class InputNode;
+namespace h5 {
+class Location;
+}
 
 struct WearSettings {
   long every = 0;                 // steps between samples; 0 = no analysis
@@ -58,6 +70,10 @@ struct WearSettings {
   double centre_speed_min = 0.25, centre_speed_max = 0.75;
   double rolling_number_min = 0.5, rolling_number_max = 1.5;
   double max_residual = 0.3;
+  // The fit's scale is at least this fraction of the walls' relative displacement over the window (a body
+  // translating without spin has no displacement spread to scale by).
+  double residual_floor = 0.25;
+  double verdict_span = -1;       // s: the run's verdict holds over this last stretch; < 0: window / 2
 };
 
 /// Reads the `wear:` section of a debris_dem input (InputError naming the key for anything bad).
@@ -85,9 +101,22 @@ struct WearSample {
   double rolling_number = 0;     // 2 R spin / v
   double residual = 0;           // rigid-fit rms residual over the wall's displacement in the interval
   bool kinematics = false;       // a fit was made (the body existed at the previous sample)
-  // Averages over the window, and the verdict at this sample.
+  WearVerdict sample_verdict = WearVerdict::ductile;  // from this sample's fit alone
+  // Means over the samples of the last verdict_span (zeros unless each has a candidate holding enough of
+  // the junction), and the verdict they give.
   double mean_centre_speed = 0, mean_rolling_number = 0, mean_residual = 0;
   WearVerdict verdict = WearVerdict::ductile;
+};
+
+/// What the analysis carries from sample to sample, as plain arrays for a checkpoint (pairs and positions
+/// in id order, so the arrays do not depend on storage order).
+struct WearState {
+  std::vector<std::int64_t> streak_a, streak_b, streak_since;  // pair (ids a < b) in range since step
+  std::vector<double> history_time;                            // the window's snapshots, oldest first
+  std::vector<std::int64_t> history_count, history_id;         // particles per snapshot; their ids
+  std::vector<double> history_position;                        // 3 per id
+  std::vector<double> samples;                                 // sample_values() per sample
+  std::size_t sample_count = 0;
 };
 
 class WearAnalysis {
@@ -102,6 +131,11 @@ class WearAnalysis {
 
   static std::vector<std::string> columns();
   static std::vector<double> row(const WearSample& s);
+
+  /// The state to continue from (checkpoints), and back. restore() checks what it is given (InputError
+  /// naming the checkpoint `path` for arrays that do not fit together).
+  WearState state() const;
+  void restore(const WearState& state, const std::string& path);
 
   /// The verdict of the run so far and a paragraph explaining it with its numbers.
   WearVerdict verdict() const;
@@ -120,5 +154,9 @@ class WearAnalysis {
   std::deque<std::pair<double, std::unordered_map<std::int64_t, Vec3>>> history_;
   std::vector<WearSample> samples_;
 };
+
+/// The state as the group `wear` under `at` (a checkpoint's `run` group), and back (nullopt: none there).
+void write_wear_state(h5::Location& at, const WearState& state);
+std::optional<WearState> read_wear_state(const h5::Location& at);
 
 }  // namespace debris

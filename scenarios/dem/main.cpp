@@ -17,9 +17,11 @@
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/io/dump_writer.hpp"
+#include "core/io/hdf5_file.hpp"
 #include "core/io/thermo_csv.hpp"
 #include "core/io/trajectory_writer.hpp"
 #include "kernels/integrate.hpp"
+#include "scenarios/common/checkpoint_file.hpp"
 #include "scenarios/common/dem_input.hpp"
 #include "scenarios/common/runner.hpp"
 
@@ -60,18 +62,51 @@ void dem_print_thermo(const std::vector<std::string>& cols, const std::vector<do
 
 // debris_dem's side of the runner: a DemSimulation with its thermo columns, dump and trajectory frames,
 // health check and stage changes.
+// What a checkpoint keeps of the run beside the system (its `run` group): the health check's limit as it
+// was in force, and the wear analysis's state, so a restart checks and reports as the run in one piece.
+struct DemRunState {
+  std::optional<double> overlap_limit;
+  std::optional<WearState> wear;
+};
+
+void write_run_state(h5::File& f, double overlap_limit, const std::optional<WearAnalysis>& wear) {
+  h5::Group run = f.create_group("run");
+  run.write_scalar<double>("overlap_limit", overlap_limit);
+  if (wear) write_wear_state(run, wear->state());
+}
+
+DemRunState read_run_state(const h5::File& f) {
+  DemRunState st;
+  if (!f.has("run")) return st;  // checkpoints from before 2026-12-03
+  const h5::Group run = f.open_group("run");
+  st.overlap_limit = run.read_scalar<double>("overlap_limit");
+  if (!(*st.overlap_limit > 0) || !std::isfinite(*st.overlap_limit))
+    throw unsound_checkpoint(f.file_path(), "run/overlap_limit is not a positive number");
+  st.wear = read_wear_state(run);
+  return st;
+}
+
 class DemRunModel final : public RunModel {
  public:
-  DemRunModel(DemSimulation sim, DemRunConfig cfg) : sim_(std::move(sim)), cfg_(std::move(cfg)) {
-    // `auto`: the deepest overlap the run starts with, plus one smallest radius (the patch tests' allowance
-    // for a sample that fractures and snaps back).
-    if (cfg_.overlap_limit_auto) {
+  DemRunModel(DemSimulation sim, DemRunConfig cfg, DemRunState restored = {}, std::string checkpoint = {})
+      : sim_(std::move(sim)), cfg_(std::move(cfg)) {
+    // `auto`: the deepest overlap the run started with, plus one smallest radius (the patch tests' allowance
+    // for a sample that fractures and snaps back); a restart keeps the limit of the run it continues.
+    if (cfg_.overlap_limit_auto && restored.overlap_limit) {
+      overlap_limit_ = *restored.overlap_limit;
+    } else if (cfg_.overlap_limit_auto) {
       const auto& r = sim_.particles().radius;
       overlap_limit_ = sim_.diagnostics().max_overlap / *std::min_element(r.begin(), r.end()) + 1.0;
     } else {
       overlap_limit_ = cfg_.overlap_limit;
     }
-    if (cfg_.wear) wear_.emplace(*cfg_.wear, sim_);
+    if (cfg_.wear) {
+      wear_.emplace(*cfg_.wear, sim_);
+      if (restored.wear) {
+        wear_->restore(*restored.wear, checkpoint);
+        wear_restored_ = true;
+      }
+    }
   }
   std::string describe() const {
     std::ostringstream os;
@@ -89,6 +124,7 @@ class DemRunModel final : public RunModel {
   std::size_t items() const override { return sim_.particles().size(); }
   const char* item_name() const override { return "particle"; }
 
+  std::string setup_key() const override { return "particles"; }
   std::string health_check() override {
     diag_ = sim_.diagnostics();
     diag_step_ = sim_.step_count();
@@ -113,14 +149,19 @@ class DemRunModel final : public RunModel {
     for (const Group& g : sim_.groups().list) names.push_back(g.name);
     trajectory_.emplace(dir, "trajectory" + suffix, names);
     if (wear_) {
-      // A restart continues wear.csv, but the analysis starts afresh: bonds count from the restart on.
+      // A restart continues wear.csv from the analysis's state in the checkpoint, which holds the sample
+      // of its own step when one was due.
       const std::string path = (fs::path(dir) / "wear.csv").string();
       wear_csv_.emplace(suffix.empty() ? ThermoCsv(path, WearAnalysis::columns())
                                        : ThermoCsv(path, WearAnalysis::columns(), sim_.step_count()));
-      if (!suffix.empty())
-        std::cout << "wear analysis: starts afresh at the restart (bonds count after "
-                  << cfg_.wear->persistence << " s from here)\n";
-      sample_wear(suffix.empty());  // a restart's first sample: its row is already in wear.csv
+      if (suffix.empty()) {
+        sample_wear();
+      } else if (!wear_restored_) {
+        // A checkpoint without the analysis (written before 2026-12-03, or by a run without `wear:`).
+        std::cout << "wear analysis: the checkpoint holds no wear state; it starts afresh at the restart (its "
+                     "window and bonds count from here)\n";
+        sample_wear(false);
+      }
     }
   }
   bool frame_due(long step) const override { return due(cfg_.output.dump_every, step) || due(trajectory_every(), step); }
@@ -134,7 +175,7 @@ class DemRunModel final : public RunModel {
     return "dump" + suffix + ".lammpstrj, trajectory" + suffix + ".xmf + .h5" + (wear_ ? ", wear.csv" : "");
   }
   void write_checkpoint(const std::string& path, const std::string& input) const override {
-    sim_.write_checkpoint(path, input);
+    sim_.write_checkpoint(path, input, [&](h5::File& f) { write_run_state(f, overlap_limit_, wear_); });
   }
 
   std::string apply_stage(int k) override {
@@ -216,32 +257,54 @@ class DemRunModel final : public RunModel {
   std::optional<TrajectoryWriter> trajectory_;
   std::optional<WearAnalysis> wear_;
   std::optional<ThermoCsv> wear_csv_;
+  bool wear_restored_ = false;
   double wear_seconds_ = 0;
 };
 
 RunPlan prepare(const RunOptions& opt) {
-  // On restart the state and its physics settings come from the checkpoint; run.steps (a total), stages and
-  // output from the input.
+  // On restart the system and its physics come from the checkpoint (no data file is read); run.steps (a
+  // total), run.threads, the health check, stages, the wear analysis and output from the input.
   std::string echo;
   std::optional<DemSimulation> restored;
-  if (!opt.restart.empty()) restored.emplace(DemSimulation::from_checkpoint(opt.restart, &echo));
+  DemRunState run_state;
+  if (!opt.restart.empty())
+    restored.emplace(DemSimulation::from_checkpoint(opt.restart, &echo,
+                                                    [&](const h5::File& f) { run_state = read_run_state(f); }));
   const InputSource in = input_source(opt, echo);
-  DemRunConfig cfg = read_dem_input_text(in.text, in.name, in.base_directory);
+  DemInputOptions io;
+  if (restored) {
+    io.restored = &*restored;
+    io.checkpoint_echo = echo;
+  }
+  DemRunConfig cfg = read_dem_input_text(in.text, in.name, in.base_directory, io);
   if (!opt.output.empty()) cfg.output.directory = opt.output;
   const exec::ThreadRequest threads = exec::request_threads(opt.threads, cfg.threads);
   std::cout << exec::startup_report() << "\n" << exec::describe(threads) << "\n";
+  if (!cfg.plain_quantities.empty()) {
+    std::string keys;
+    for (const std::string& k : cfg.plain_quantities) keys += (keys.empty() ? "" : ", ") + k;
+    std::cout << "note: plain numbers beside values with units are taken as they stand (SI): " << keys << "\n";
+  }
+  if (!cfg.ignored_at_restart.empty()) {
+    std::string keys;
+    for (const std::string& k : cfg.ignored_at_restart) keys += (keys.empty() ? "" : ", ") + k;
+    std::cout << "ignored at restart: " << keys << " (the checkpoint's system and physics continue; edit stages, "
+              << "run.steps or output instead)\n";
+  }
 
   // The system is validated here (radii, time step against eq 6, ...) before any file is opened.
   DemSimulation sim = restored ? std::move(*restored)
                                : DemSimulation(cfg.box, std::move(cfg.particles), std::move(cfg.groups), cfg.settings);
-  if (restored && cfg.stage_changes.size() > 0)
-    for (const DemStageChanges& c : cfg.stage_changes)
-      for (const DemStageChanges::GroupChange& gc : c.groups)
-        if (static_cast<std::size_t>(gc.group) >= sim.groups().size() ||
-            sim.groups().list[static_cast<std::size_t>(gc.group)].name != gc.motion.name)
-          throw input_error("stages.groups.name", gc.motion.name, "is not a group of the checkpoint's system");
+  for (std::size_t k = 0; k < cfg.stage_changes.size(); ++k) {
+    const DemStageChanges& c = cfg.stage_changes[k];
+    if (c.global_damping) sim.check_global_damping(*c.global_damping, "stages[" + std::to_string(k) + "].global_damping");
+    for (const DemStageChanges::GroupChange& gc : c.groups)
+      if (static_cast<std::size_t>(gc.group) >= sim.groups().size() ||
+          sim.groups().list[static_cast<std::size_t>(gc.group)].name != gc.motion.name)
+        throw input_error("stages.groups.name", gc.motion.name, "is not a group of the checkpoint's system");
+  }
   RunPlan plan = make_run_plan(cfg, sim.dt(), restored.has_value(), threads, in.text);
-  auto model = std::make_unique<DemRunModel>(std::move(sim), std::move(cfg));
+  auto model = std::make_unique<DemRunModel>(std::move(sim), std::move(cfg), std::move(run_state), opt.restart);
   std::cout << model->describe() << "\n";
   plan.model = std::move(model);
   return plan;

@@ -153,12 +153,16 @@ class PeridemRunModel final : public RunModel {
   std::size_t items() const override { return sim_.node_count(); }  // every step: no transfer
   const char* item_name() const override { return "node"; }
 
+  std::string setup_key() const override { return "grains"; }
   std::string health_check() override {
     std::string problem = sim_.health_check();
     if (problem.empty()) problem = sim_.explosion_check();
     if (problem.empty()) problem = sim_.penetration_check(cfg_.penetration_limit);
     return problem;
   }
+  // Every step: a body passes through another within a few steps of a fast impact, between any two
+  // samples of the full check.
+  std::string step_check() override { return sim_.penetration_check(cfg_.penetration_limit); }
   std::vector<std::string> thermo_columns() const override {
     return peridem_thermo_columns(sim_, cfg_.dimension, per_grain_);
   }
@@ -272,6 +276,11 @@ RunPlan prepare(const RunOptions& opt) {
   PeridemRunConfig cfg = read_peridem_input_text(in.text, in.name, in.base_directory, io);
   const exec::ThreadRequest threads = exec::request_threads(opt.threads, cfg.threads);
   std::cout << exec::startup_report() << "\n" << exec::describe(threads) << "\n";
+  if (!cfg.plain_quantities.empty()) {
+    std::string keys;
+    for (const std::string& k : cfg.plain_quantities) keys += (keys.empty() ? "" : ", ") + k;
+    std::cout << "note: plain numbers beside values with units are taken as they stand (SI): " << keys << "\n";
+  }
 
   // The system is validated here (time step against the stable one, ...) before any output is opened.
   std::optional<PeridemSimulation> built;

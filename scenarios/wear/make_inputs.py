@@ -131,6 +131,8 @@ wear:
   moving: [0.1, 0.9]           # particles moving with neither wall: 0.1 < f < 0.9 of the wall's displacement
   min_volume_fraction: 0.25    # a wear particle holds at least a quarter of the junction's volume
   max_residual: 0.3            # it moves rigidly: rigid-fit residual / displacement spread (rigid ~0, shear ~0.7)
+  residual_floor: 0.25         # ... or / (0.25 x the walls' relative slide), for a body that does not spin
+  verdict_span: 1 ns           # the verdict: a rigid candidate at every sample of the last 1 ns, judged on its means
   centre_speed: [0.25, 0.75]   # of the wall's (rolling without slip: 0.5)
   rolling_number: [0.5, 1.5]   # 2 R omega / v (rolling without slip: 1)
   persistence: 2.5 ns          # diagnostics only: a pair in range this long counts as a bond
