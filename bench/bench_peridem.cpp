@@ -9,6 +9,7 @@
 //   BM_PdBondPasses        pd_bond_step: break (eq 11) + dilatation (eq 34) + force (eq 33)   items = nodes
 //   BM_PdContactPass       pd_contact_pass: node pairs (eqs 16-20) + grain centres + damping (eqs 26-30)
 //   BM_PdContactListBuild  PdContactList::build (cells, full rows with self-contact, grain-pair slots)
+//   BM_PdPenetrationCheck  the runner's every-step penetration check (a max reduction over the contact list)
 //   BM_PdStep              PeridemSimulation::step(): integrate, list check/rebuild, forces, everything
 //   BM_PdStepTiled         the same on the deck tiled k x k times side by side (each tile its own grains,
 //                          container and lid, 1 mm apart): k = 2 by default (251,976 nodes);
@@ -389,6 +390,21 @@ void BM_PdContactPass(benchmark::State& state) {
   set_counters(state, s, false, true);
 }
 
+// The penetration check the runner makes after every step (pd_deepest_penetration, a max reduction over the
+// contact list), beside the contact pass over the same list: its cost per step.
+void BM_PdPenetrationCheck(benchmark::State& state) {
+  exec::set_threads(static_cast<int>(state.range(1)));
+  PdSystem& s = system_for(state);
+  double deepest = 0;
+  for (auto _ : state) {
+    deepest = pd_deepest_penetration(s.table, s.nodes, s.grains, s.list);
+    benchmark::DoNotOptimize(deepest);
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<long long>(s.nodes.size()));
+  state.counters["deepest"] = deepest;
+  set_counters(state, s, false, true);
+}
+
 void BM_PdContactListBuild(benchmark::State& state) {
   exec::set_threads(static_cast<int>(state.range(1)));
   PdSystem& s = system_for(state);
@@ -469,6 +485,7 @@ void contact_args(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_PdBondPasses)->Apply(pd_args);
 BENCHMARK(BM_PdContactPass)->Apply(contact_args);
+BENCHMARK(BM_PdPenetrationCheck)->Apply(contact_args);
 BENCHMARK(BM_PdContactListBuild)->Apply(contact_args);
 BENCHMARK(BM_PdStep)->Apply(pd_args);
 BENCHMARK(BM_PdStepTiled)->Apply(tiled_args);
