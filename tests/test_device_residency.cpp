@@ -1,7 +1,8 @@
-// Device residency, tested where it can fail: in the hostdevice build (clang's OpenMP offload to the host
-// CPU as a separate device) a kernel reads the device's copy of every array, so a missing to_device or
-// to_host gives a stale value. These tests skip in host builds and on GCC's host fallback (nvptx build
-// without a GPU), where target regions share the host's memory.
+// Device residency, tested where it can fail: on a device with its own memory (the hostdevice build: clang's
+// OpenMP offload to the host CPU as a separate device; or an nvptx build on a GPU) a kernel reads the
+// device's copy of every array, so a missing to_device or to_host gives a stale value. These tests skip in
+// host builds and on GCC's host fallback (an nvptx build without a GPU), where target regions share the
+// host's memory and no transfer can be missing.
 //  - a canary that fails unless the device really has its own memory;
 //  - the residency check aborts on an array that was never entered;
 //  - a DEM run on the device equals the same run on the initial device (host fallback, shared memory, where
@@ -32,7 +33,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
-bool separate_memory_build() { return std::string(exec::offload_kind()) == "hostdevice"; }
+// A device with its own memory runs the kernels: the hostdevice build, or an nvptx build on a GPU.
+bool device_with_own_memory() { return exec::offload_build() && exec::kernels_run_on_device(); }
+constexpr const char* kNoDevice =
+    "no device with its own memory here: a host build, or an offload build whose kernels fall back to the host";
+
+// The words the startup line uses for such a device ("kernels run on GPU" or "... on the host CPU as a
+// separate-memory device"), absent when they run on host threads.
+std::string device_words() {
+  return std::string(exec::offload_kind()) == "hostdevice" ? "separate-memory device" : "kernels run on GPU";
+}
 
 // The sum of v on the device.
 double device_sum(const exec::DeviceVector<double>& v) {
@@ -55,7 +65,7 @@ void device_double(exec::DeviceVector<double>& v) {
 }
 
 TEST(DeviceResidency, SeparateMemoryCanary) {
-  if (!separate_memory_build()) GTEST_SKIP() << "only the hostdevice build has a device with its own memory";
+  if (!device_with_own_memory()) GTEST_SKIP() << kNoDevice;
   ASSERT_TRUE(exec::kernels_run_on_device()) << "kernels fell back to the host: " << exec::startup_report();
   exec::DeviceVector<double> v(64, 1.0);
   exec::to_device(v);
@@ -71,7 +81,8 @@ TEST(DeviceResidency, SeparateMemoryCanary) {
 }
 
 TEST(DeviceResidencyDeathTest, KernelOnAnArrayNeverEnteredAborts) {
-  if (!separate_memory_build()) GTEST_SKIP() << "the residency check is compiled into hostdevice builds";
+  if (std::string(exec::offload_kind()) != "hostdevice" || !device_with_own_memory())
+    GTEST_SKIP() << "the residency check (DEBRIS_CHECK_RESIDENCY) is compiled into hostdevice builds only";
   GTEST_FLAG_SET(death_test_style, "threadsafe");
   EXPECT_DEATH(
       {
@@ -119,7 +130,7 @@ auto on_initial_device(F f) {
 }
 
 TEST(DeviceResidency, DemRunOnTheDeviceEqualsHostFallback) {
-  if (!separate_memory_build()) GTEST_SKIP() << "needs a device with its own memory";
+  if (!device_with_own_memory()) GTEST_SKIP() << kNoDevice;
   const long steps = 300;
   exec::reset_transfer_stats();
   const DemResult dev = run_dem_model(steps);
@@ -157,7 +168,7 @@ TEST(DeviceResidency, DemRunOnTheDeviceEqualsHostFallback) {
 // The executable: thermo rows, dump frames and the checkpoint come from the device's state through the
 // runner's transfer points; the same input on the initial device (OMP_DEFAULT_DEVICE) must give the same files.
 TEST(DeviceResidency, DemExecutableOutputEqualsHostFallback) {
-  if (!separate_memory_build()) GTEST_SKIP() << "needs a device with its own memory";
+  if (!device_with_own_memory()) GTEST_SKIP() << kNoDevice;
   const fs::path d = test::fresh_directory("debris_device_dem_cli");
   auto input = [&](const std::string& out) {
     return test::write_text_file(d, out + ".yaml", std::string(test::kTable4MaterialYaml) + R"(particles:
@@ -183,11 +194,11 @@ output:
   const std::string exe = DEBRIS_DEM_EXECUTABLE;
   const test::CommandResult dev = test::run_command(exe, "-i " + input("device"));
   ASSERT_EQ(dev.exit_code, 0) << dev.output;
-  EXPECT_NE(dev.output.find("separate-memory device"), std::string::npos) << dev.output;
+  EXPECT_NE(dev.output.find(device_words()), std::string::npos) << dev.output;
   const test::CommandResult host = test::run_command(
       "OMP_DEFAULT_DEVICE=" + std::to_string(exec::initial_device()) + " " + exe, "-i " + input("host"));
   ASSERT_EQ(host.exit_code, 0) << host.output;
-  EXPECT_EQ(host.output.find("separate-memory device"), std::string::npos) << host.output;
+  EXPECT_EQ(host.output.find(device_words()), std::string::npos) << host.output;
   for (const char* file : {"thermo.csv", "dump.lammpstrj"}) {
     const std::string a = test::slurp(d / "device" / file), b = test::slurp(d / "host" / file);
     EXPECT_FALSE(a.empty()) << file;
@@ -262,7 +273,7 @@ PdResult run_pd_model(long steps, const fs::path& dir) {
 }
 
 TEST(DeviceResidency, PeridemRunOnTheDeviceEqualsHostFallback) {
-  if (!separate_memory_build()) GTEST_SKIP() << "needs a device with its own memory";
+  if (!device_with_own_memory()) GTEST_SKIP() << kNoDevice;
   const fs::path dir = test::fresh_directory("debris_device_peridem_run");
   const long steps = 600;
   exec::reset_transfer_stats();
@@ -307,7 +318,7 @@ TEST(DeviceResidency, PeridemRunOnTheDeviceEqualsHostFallback) {
 // The checkpoint is written from the device's state (nothing read it on the host before), and the run
 // restored from it on the device goes on as the run in one piece, bit for bit.
 TEST(DeviceResidency, PeridemCheckpointFromTheDeviceRestartsIdentically) {
-  if (!separate_memory_build()) GTEST_SKIP() << "needs a device with its own memory";
+  if (!device_with_own_memory()) GTEST_SKIP() << kNoDevice;
   const fs::path dir = test::fresh_directory("debris_device_peridem_restart");
   const long n = 500;
   PeridemSimulation straight = pd_impact(dir);
@@ -328,7 +339,7 @@ TEST(DeviceResidency, PeridemCheckpointFromTheDeviceRestartsIdentically) {
 // sets it moving (host-side edits sent back to the device). The same input on the initial device must give
 // the same rows and frames.
 TEST(DeviceResidency, PeridemExecutableOutputEqualsHostFallback) {
-  if (!separate_memory_build()) GTEST_SKIP() << "needs a device with its own memory";
+  if (!device_with_own_memory()) GTEST_SKIP() << kNoDevice;
   const fs::path d = test::fresh_directory("debris_device_peridem_cli");
   auto input = [&](const std::string& out) {
     return test::write_text_file(d, out + ".yaml", pd_impact_yaml(R"(stages:
@@ -347,12 +358,12 @@ output:
   const std::string exe = DEBRIS_PERIDEM_EXECUTABLE;
   const test::CommandResult dev = test::run_command(exe, "-i " + input("device"));
   ASSERT_EQ(dev.exit_code, 0) << dev.output;
-  EXPECT_NE(dev.output.find("separate-memory device"), std::string::npos) << dev.output;
+  EXPECT_NE(dev.output.find(device_words()), std::string::npos) << dev.output;
   EXPECT_NE(dev.output.find("wall lid moved by"), std::string::npos) << dev.output;
   const test::CommandResult host = test::run_command(
       "OMP_DEFAULT_DEVICE=" + std::to_string(exec::initial_device()) + " " + exe, "-i " + input("host"));
   ASSERT_EQ(host.exit_code, 0) << host.output;
-  EXPECT_EQ(host.output.find("separate-memory device"), std::string::npos) << host.output;
+  EXPECT_EQ(host.output.find(device_words()), std::string::npos) << host.output;
   const std::string a = test::slurp(d / "device" / "thermo.csv"), b = test::slurp(d / "host" / "thermo.csv");
   EXPECT_FALSE(a.empty());
   EXPECT_EQ(a, b) << "thermo.csv differs between the device run and host fallback";

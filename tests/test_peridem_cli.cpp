@@ -329,6 +329,16 @@ TEST(PeridemCliRestart, RestartContinuesBitForBit) {
                                   " -o " + (d / "back").string());
   EXPECT_EQ(back.exit_code, 2) << back.output;
   EXPECT_NE(back.output.find("run.steps"), std::string::npos) << back.output;
+  // A restart's -i that changes the system or its physics: the checkpoint's continue, and one line says so;
+  // the run restarted above with the same system said nothing.
+  EXPECT_EQ(r.output.find("ignored at restart"), std::string::npos) << r.output;
+  std::string edited = replace(yaml, "fracture_energy: 50 J/m^2", "fracture_energy: 80 J/m^2");
+  edited = replace(edited, "time_step: 0.1 us", "time_step: 0.05 us");
+  edited = replace(edited, "steps: 1200", "steps: 1300");
+  const Result changed = run_peridem("--restart " + (d / "split" / "checkpoint.h5").string() + " -i " +
+                                     write(d, "edited.yaml", edited).string() + " -o " + (d / "edited").string());
+  EXPECT_EQ(changed.exit_code, 0) << changed.output;
+  EXPECT_NE(changed.output.find("ignored at restart: materials, run.time_step"), std::string::npos) << changed.output;
 }
 
 // A run far above the stable step blows up: it stops at a check with a message naming the step and the

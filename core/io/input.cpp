@@ -581,6 +581,23 @@ std::string InputNode::yaml_of(const std::string& key) const {
   return {};
 }
 
+std::vector<std::string> differing_keys(const InputNode& given, const InputNode& kept,
+                                        const std::vector<std::string>& keys) {
+  // The text of `path` in `n` ("" when absent), walking maps without recording any read.
+  auto text = [](const InputNode& n, const std::string& path) {
+    const auto dot = path.find('.');
+    if (dot == std::string::npos) return n.yaml_of(path);
+    const std::string parent = path.substr(0, dot);
+    if (!n.has(parent)) return std::string();
+    const InputNode inner = InputNode::load_string(n.yaml_of(parent), "");
+    return inner.is_map() ? inner.yaml_of(path.substr(dot + 1)) : std::string();
+  };
+  std::vector<std::string> out;
+  for (const std::string& k : keys)
+    if (text(given, k) != text(kept, k)) out.push_back(k);
+  return out;
+}
+
 void InputNode::reject_unknown_keys() const {
   check_read(*node_, path_, tracking_->source, tracking_->read, tracking_->known);
 }

@@ -116,4 +116,10 @@ class InputNode {
   std::shared_ptr<Tracking> tracking_;
 };
 
+/// Of `keys` ("material", or "run.time_step" one level down), those whose YAML text differs between
+/// `given` and `kept` (absent on one side counts as differing): what a restart's -i changes in the parts a
+/// checkpoint fixes. Reads nothing (no key counts as read).
+std::vector<std::string> differing_keys(const InputNode& given, const InputNode& kept,
+                                        const std::vector<std::string>& keys);
+
 }  // namespace debris

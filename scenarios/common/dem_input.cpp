@@ -342,19 +342,12 @@ const std::vector<std::string> kPhysicsRunKeys{"time_step", "time_step_fraction"
 // those whose text differs from the input the checkpoint keeps are listed.
 void skip_restored_parts(const InputNode& root, const DemInputOptions& options, DemRunConfig& cfg) {
   const InputNode echo = InputNode::load_string(options.checkpoint_echo, "the checkpoint's input");
-  for (const char* key : {"material", "particles", "box", "remove", "labels", "groups"}) {
-    if (root.yaml_of(key) != echo.yaml_of(key)) cfg.ignored_at_restart.push_back(key);
-    root.skip(key);
-  }
-  if (root.has("run")) {
-    const InputNode run = root.child("run");
-    const bool echo_run = echo.has("run");
-    for (const std::string& key : kPhysicsRunKeys) {
-      const std::string then = echo_run ? echo.child("run").yaml_of(key) : std::string();
-      if (run.yaml_of(key) != then) cfg.ignored_at_restart.push_back("run." + key);
-      run.skip(key);
-    }
-  }
+  std::vector<std::string> fixed{"material", "particles", "box", "remove", "labels", "groups"};
+  for (const std::string& key : fixed) root.skip(key);
+  if (root.has("run"))
+    for (const std::string& key : kPhysicsRunKeys) root.child("run").skip(key);
+  for (const std::string& key : kPhysicsRunKeys) fixed.push_back("run." + key);
+  cfg.ignored_at_restart = differing_keys(root, echo, fixed);
   cfg.box = options.restored->box();
   cfg.groups = options.restored->groups();
 }

@@ -17,6 +17,7 @@
 
 #include "core/error.hpp"
 #include "core/exec.hpp"
+#include "core/io/input.hpp"
 #include "core/io/node_trajectory_writer.hpp"
 #include "scenarios/common/peridem_input.hpp"
 #include "scenarios/common/runner.hpp"
@@ -274,8 +275,20 @@ RunPlan prepare(const RunOptions& opt) {
   io.build_system = !restored;  // on restart the system comes from the checkpoint
   io.output_directory = opt.output;
   PeridemRunConfig cfg = read_peridem_input_text(in.text, in.name, in.base_directory, io);
+  // The parts a checkpoint fixes (the system and its physics): named where -i gives them otherwise.
+  std::vector<std::string> ignored;
+  if (restored && !opt.input.empty())
+    ignored = differing_keys(InputNode::load_string(in.text, in.name), InputNode::load_string(echo, "the checkpoint's input"),
+                             {"dimension", "materials", "shapes", "grains", "particle_file", "walls", "contact", "gravity",
+                              "run.time_step", "run.skin", "run.allow_unstable_time_step", "run.global_damping"});
   const exec::ThreadRequest threads = exec::request_threads(opt.threads, cfg.threads);
   std::cout << exec::startup_report() << "\n" << exec::describe(threads) << "\n";
+  if (!ignored.empty()) {
+    std::string keys;
+    for (const std::string& k : ignored) keys += (keys.empty() ? "" : ", ") + k;
+    std::cout << "ignored at restart: " << keys << " (the checkpoint's system and physics continue; edit stages, "
+              << "run.steps or output instead)\n";
+  }
   if (!cfg.plain_quantities.empty()) {
     std::string keys;
     for (const std::string& k : cfg.plain_quantities) keys += (keys.empty() ? "" : ", ") + k;

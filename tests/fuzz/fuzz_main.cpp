@@ -466,7 +466,9 @@ int main(int argc, char** argv) {
   std::vector<std::string> corpus;
   const std::vector<fs::path> files = collect(opt.paths, opt.mode == "replay" ? std::vector<std::string>{} : target.seed_endings);
   for (const fs::path& f : files) corpus.push_back(read_bytes(f));
-  if (opt.mode == "run" && target.builtin_seeds)
+  // The built-in seeds too (the checkpoint targets have no seed files: their seeds are mutation programs
+  // over a checkpoint written at start-up), so a replay runs every target's seeds.
+  if (target.builtin_seeds)
     for (std::string& s : target.builtin_seeds()) corpus.push_back(std::move(s));
   if (corpus.empty()) usage("no inputs or seeds for " + target.name);
   const std::size_t seeds = corpus.size();
