@@ -3,6 +3,7 @@
 
     /usr/bin/python3 scenarios/peridem/timing_study.py --bin build/bin/debris_peridem --work DIR
         [--grains 25,51,96,200,403] [--threads 1,2] [--steps 10000] [--mesh-scale 0.72] [--csv F] [--plot F]
+        [--check]
 
 The paper runs its compressive test (section 4.4) with 25, 51, 96, 200 and 403 grains for 10,000 steps of
 0.1 us (T = 1 ms, the first millisecond of the settle) and splits the time by model component. It gives the
@@ -22,6 +23,19 @@ other, output, rest. Output is one thermo row per 1,000 steps and a frame and a 
 
 Writes a CSV (one row per case and thread count) and a stacked-bar plot like Fig 24, and prints the slope of
 stepping time against degrees of freedom, and against grain nodes, on a log-log scale (1 = linear). Needs gmsh, numpy, matplotlib.
+
+--check checks what was parsed against values known without the run, and exits 1 naming every failure:
+  - the pass table adds up: the passes sum to the total, and the shares to 100%, within the rounding of the
+    printed digits (3 decimals of a second, 1 of a per cent, per row); each share is its seconds over the
+    total;
+  - the run's rate (M node-steps/s while stepping) is nodes x steps / (total - set-up), to the rounding;
+  - the system is the one asked for: the grain count, one wall, and the node count = the container mesh's
+    nodes + the nodes of each grain's zone mesh over the first N rows of the particle list (from the .msh
+    files and the CSV, not from the run); more grains give more bonds;
+  - the CSV has one row per case and thread count;
+  - the stepping time grows with the grain nodes, for the same thread count, where it can be timed: only
+    between cases whose grain nodes differ by at least 2 times and whose stepping takes 0.5 s or more (a
+    few milliseconds, as in the 50-step ctest, is noise); otherwise it says it did not check.
 """
 import argparse
 import csv
@@ -100,16 +114,95 @@ def write_case(work, n, steps):
 
 def parse_run(text):
     """Node counts and the pass table of a debris_peridem run's output."""
-    m = re.search(r"^(\d+) nodes in (\d+) grains and (\d+) walls", text, re.M)
+    m = re.search(r"^(\d+) nodes in (\d+) grains and (\d+) walls; (\d+) bonds", text, re.M)
     if not m:
         raise RuntimeError("no node count in the run's output")
-    row = {"nodes": int(m.group(1)), "grains": int(m.group(2))}
+    row = {"nodes": int(m.group(1)), "grains": int(m.group(2)), "walls": int(m.group(3)), "bond_count": int(m.group(4)),
+           "shares": {}}
     for name in PASSES + ["total"]:
-        p = re.search(rf"^{re.escape(name)}\s+([0-9.]+)\s", text, re.M)
+        p = re.search(rf"^{re.escape(name)}\s+([0-9.]+)\s+([0-9.]+)%", text, re.M)
         if not p:
             raise RuntimeError(f"no '{name}' row in the pass table")
         row[name] = float(p.group(1))
+        row["shares"][name] = float(p.group(2))
+    r = re.search(r"^total\s.*?([0-9.eE+-]+) M node-steps/s while stepping", text, re.M)
+    if not r:
+        raise RuntimeError("no rate in the pass table's total row")
+    row["printed_rate"] = float(r.group(1)) * 1e6
     return row
+
+
+def mesh_nodes(path):
+    """The node count of a Gmsh MSH 2.2 file ($Nodes)."""
+    with open(path) as f:
+        lines = f.read().splitlines()
+    return int(lines[lines.index("$Nodes") + 1])
+
+
+def expected_grain_nodes(work, n):
+    """Nodes of the first n grains of the particle list: each row's zone i uses mesh_particle_{i+1}.msh."""
+    per_zone = {k - 1: mesh_nodes(os.path.join(work, f"mesh_particle_{k}.msh")) for k in (1, 2)}
+    with open(os.path.join(DECK_DATA, "particle_locations_0.csv")) as f:
+        rows = f.read().splitlines()[1: n + 1]
+    return sum(per_zone[int(r.split(",")[0])] for r in rows)
+
+
+def check(rows, a, work, csv_path):
+    """The --check checks (see the module's text); returns the failures, printing what it checked."""
+    failures = []
+
+    def expect(ok, what):
+        print(f"check: {'ok    ' if ok else 'FAILED'} {what}")
+        if not ok:
+            failures.append(what)
+
+    for r in rows:
+        case = f"{r['grains']} grains, {r['threads']} thread(s)"
+        passes = sum(r[name] for name in PASSES)
+        # Each printed time is within 0.0005 s of the true one (3 decimals), each share within 0.05%.
+        expect(abs(passes - r["total"]) <= 0.0005 * (len(PASSES) + 1),
+               f"{case}: passes sum to {passes:.3f} s, total {r['total']:.3f} s")
+        shares = sum(r["shares"][name] for name in PASSES)
+        expect(abs(shares - 100.0) <= 0.05 * len(PASSES) + 1e-9 and r["shares"]["total"] == 100.0,
+               f"{case}: shares sum to {shares:.1f}%")
+        if r["total"] > 0:
+            for name in PASSES:
+                # share = 100 s / T from the unrounded s and T; the printed s, T are 0.0005 s off at most
+                slack = 0.05 + 100 * 0.0005 * (1 / r["total"] + r[name] / r["total"] ** 2) + 1e-9
+                expect(abs(r["shares"][name] - 100 * r[name] / r["total"]) <= slack,
+                       f"{case}: {name} {r['shares'][name]:.1f}% of the total = {r[name]:.3f} / {r['total']:.3f} s")
+        if r["stepping"] > 0.002:
+            rate = r["nodes"] * a.steps / r["stepping"]
+            # the printed rate has 3 digits; stepping = total - set-up is 0.001 s off at most
+            rel = 0.005 + 0.001 / (r["stepping"] - 0.001)
+            expect(abs(r["printed_rate"] - rate) <= rel * rate,
+                   f"{case}: printed rate {r['printed_rate'] / 1e6:.3g} M node-steps/s, nodes x steps / stepping "
+                   f"= {rate / 1e6:.3g}")
+        expect(r["walls"] == 1, f"{case}: {r['walls']} wall (the container)")
+        want = expected_grain_nodes(work, r["grains"]) + r["wall_nodes"]
+        expect(r["nodes"] == want, f"{case}: {r['nodes']} nodes, meshes and particle list give {want}")
+    asked = [int(x) for x in a.grains.split(",")]
+    threads = [int(x) for x in a.threads.split(",")]
+    expect(sorted({r["grains"] for r in rows}) == sorted(set(asked)), f"grain counts {sorted({r['grains'] for r in rows})}"
+           f" as asked ({a.grains})")
+    with open(csv_path) as f:
+        written = list(csv.DictReader(f))
+    expect(len(written) == len(asked) * len(threads), f"{len(written)} CSV rows for {len(asked)} cases x "
+           f"{len(threads)} thread counts")
+    for t in threads:
+        rs = sorted((r for r in rows if r["threads"] == t), key=lambda r: r["grain_nodes"])
+        for lo, hi in zip(rs, rs[1:]):
+            if hi["grain_nodes"] > lo["grain_nodes"]:
+                expect(hi["bond_count"] > lo["bond_count"], f"{t} thread(s): {hi['bond_count']} bonds with "
+                       f"{hi['grains']} grains, {lo['bond_count']} with {lo['grains']}")
+            if hi["grain_nodes"] >= 2 * lo["grain_nodes"] and lo["stepping"] >= 0.5:
+                expect(hi["stepping"] > lo["stepping"], f"{t} thread(s): stepping {hi['stepping']:.3f} s with "
+                       f"{hi['grains']} grains, {lo['stepping']:.3f} s with {lo['grains']}")
+            else:
+                print(f"check: not checked: the stepping time against grains between {lo['grains']} and "
+                      f"{hi['grains']} grains on {t} thread(s) (needs 2x the grain nodes and 0.5 s of stepping: "
+                      f"{lo['grain_nodes']} -> {hi['grain_nodes']} nodes, {lo['stepping']:.3f} s)")
+    return failures
 
 
 def wall_nodes():
@@ -131,6 +224,8 @@ def main():
     ap.add_argument("--mesh-scale", type=float, default=0.72)
     ap.add_argument("--csv", default=None)
     ap.add_argument("--plot", default=None)
+    ap.add_argument("--check", action="store_true",
+                    help="check the parsed tables against values known without the run; exit 1 on a failure")
     a = ap.parse_args()
     binary = os.path.abspath(a.bin)
     os.makedirs(a.work, exist_ok=True)
@@ -166,6 +261,11 @@ def main():
         w.writeheader()
         w.writerows(rows)
     print(f"wrote {path}")
+    if a.check:
+        failures = check(rows, a, a.work, path)
+        if failures:
+            sys.exit(f"timing_study: {len(failures)} check(s) failed:\n  " + "\n  ".join(failures))
+        print("timing_study: every check passed")
 
     import numpy as np
     for t in sorted({r["threads"] for r in rows}):
