@@ -1,5 +1,5 @@
 // Google Benchmark of the amorphous-sample relaxation (Pham-Ba & Molinari section 3.2,
-// scenarios/common/amorphous_sample.hpp), phase 2: adhesive normal force, no tangential force, damping
+// scenarios/common/dem/amorphous_sample.hpp), phase 2: adhesive normal force, no tangential force, damping
 // 0.02 c_c, the periodic box moved every 10 steps from the average virial stress, run until the normal
 // stresses are below 1e-14 E. The system is the small sample of the tests' kind: Table 4 material, d0 =
 // 0.6 d_c (so delta_f = d0 / 3, the longest relative interaction range of the paper's sweep), diameters
@@ -16,8 +16,8 @@
 #include <memory>
 
 #include "core/exec.hpp"
-#include "scenarios/common/amorphous_sample.hpp"
-#include "scenarios/common/dem_simulation.hpp"
+#include "scenarios/common/dem/amorphous_sample.hpp"
+#include "scenarios/common/dem/dem_simulation.hpp"
 
 namespace debris {
 namespace {

@@ -58,12 +58,12 @@
 #include "core/lattice.hpp"
 #include "core/neighbor_list.hpp"
 #include "core/particles.hpp"
-#include "kernels/cohesive_contact.hpp"
-#include "kernels/cohesive_contact_half.hpp"
-#include "kernels/cohesive_pair_table.hpp"
-#include "kernels/cohesive_material.hpp"
-#include "kernels/integrate.hpp"
-#include "scenarios/common/dem_simulation.hpp"
+#include "kernels/dem/cohesive_contact.hpp"
+#include "kernels/dem/cohesive_contact_half.hpp"
+#include "kernels/dem/cohesive_pair_table.hpp"
+#include "kernels/dem/cohesive_material.hpp"
+#include "kernels/dem/integrate.hpp"
+#include "scenarios/common/dem/dem_simulation.hpp"
 
 namespace debris {
 namespace {

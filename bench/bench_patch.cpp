@@ -1,4 +1,4 @@
-// Google Benchmark of one patch test (Pham-Ba & Molinari section 3, scenarios/common/patch_test.hpp): the
+// Google Benchmark of one patch test (Pham-Ba & Molinari section 3, scenarios/patch/patch_test.hpp): the
 // elastic test (confined compression under a stress of 0.01 on the top wall, damping 0.2 c_c, time step
 // 0.1 dt_c, run to equilibrium) on a small HCP lattice: Table 4 material at nu = 0.15, d0 = 0.6 d_c, c axis
 // along the load, 10 x 10 x 3 d0 (the engine raises W to what its neighbour list needs), walls 1.5 d0.
@@ -11,7 +11,7 @@
 #include <benchmark/benchmark.h>
 
 #include "core/exec.hpp"
-#include "scenarios/common/patch_test.hpp"
+#include "scenarios/patch/patch_test.hpp"
 
 namespace debris {
 namespace {

@@ -4,7 +4,7 @@
 // placed from particle_locations_0.csv), the U-shaped container and the top plate as meshed walls (placed
 // as is; the plate moves at the deck's linear Displacement_BC rate), 62,994 nodes; materials, contact,
 // gravity and time step (Final_Time / Time_Steps) from the deck. The deck's 2D PDState is run with debris's
-// plane-strain constants (kernels/pd_material.hpp); its Kn equals eq 36, which debris computes itself.
+// plane-strain constants (kernels/peridem/pd_material.hpp); its Kn equals eq 36, which debris computes itself.
 //
 //   BM_PdBondPasses        pd_bond_step: break (eq 11) + dilatation (eq 34) + force (eq 33)   items = nodes
 //   BM_PdContactPass       pd_contact_pass: node pairs (eqs 16-20) + grain centres + damping (eqs 26-30)
@@ -46,14 +46,14 @@
 #include "core/bond_list.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
-#include "core/grain_placement.hpp"
+#include "scenarios/common/peridem/grain_placement.hpp"
 #include "core/io/gmsh_msh.hpp"
 #include "core/io/grain_csv.hpp"
 #include "core/pd_contact_list.hpp"
 #include "core/pd_nodes.hpp"
-#include "kernels/pd_bond_passes.hpp"
-#include "kernels/pd_contact.hpp"
-#include "scenarios/common/peridem_simulation.hpp"
+#include "kernels/peridem/pd_bond_passes.hpp"
+#include "kernels/peridem/pd_contact.hpp"
+#include "scenarios/common/peridem/peridem_simulation.hpp"
 
 #ifndef DEBRIS_SOURCE_DIR
 #define DEBRIS_SOURCE_DIR "."

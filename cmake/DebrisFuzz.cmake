@@ -21,8 +21,9 @@ set(_common ${PROJECT_SOURCE_DIR}/scenarios/common)
 debris_fuzz_instrument(debris_core ${_core}/io/input.cpp ${_core}/units.cpp ${_core}/io/lammps_data.cpp
                        ${_core}/io/gmsh_msh.cpp ${_core}/io/grain_csv.cpp ${_core}/io/hdf5_file.cpp ${_core}/region.cpp
                        ${_core}/lattice.cpp)
-debris_fuzz_instrument(debris_sim ${_common}/dem_input.cpp ${_common}/peridem_input.cpp ${_common}/stages.cpp
-                       ${_common}/dem_checkpoint.cpp ${_common}/peridem_checkpoint.cpp)
+debris_fuzz_instrument(debris_dem_sim ${_common}/dem/dem_input.cpp ${_common}/dem/dem_checkpoint.cpp)
+debris_fuzz_instrument(debris_peridem_sim ${_common}/peridem/peridem_input.cpp ${_common}/peridem/peridem_checkpoint.cpp)
+debris_fuzz_instrument(debris_run ${_common}/run/stages.cpp)
 debris_fuzz_instrument(debris_patch_input ${PROJECT_SOURCE_DIR}/scenarios/patch/patch_input.cpp)
 debris_fuzz_instrument(debris_amorphous_input ${PROJECT_SOURCE_DIR}/scenarios/amorphous/amorphous_input.cpp)
 debris_fuzz_instrument(debris_restitution_input ${PROJECT_SOURCE_DIR}/scenarios/restitution/restitution_input.cpp)

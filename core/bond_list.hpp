@@ -26,7 +26,7 @@ class BondList {
   exec::DeviceVector<double> length0;          // reference length |x0_j - x0_i| of each entry
   exec::DeviceVector<unsigned char> broken;    // 1 once broken, never healed
 
-  /// Scratch of the bond passes (kernels/pd_bond_passes.cpp), sized by them: the node factors P_i, Q_i of
+  /// Scratch of the bond passes (kernels/peridem/pd_bond_passes.cpp), sized by them: the node factors P_i, Q_i of
   /// lps_node_factors, interleaved, written from theta before every force sweep (by pd_bond_step's dilatation
   /// sweep, or by pd_bond_force_pass itself). Not bond data: nothing reads it across calls, and copies or
   /// checkpoints need not keep it. Mutable because the passes read the bonds as const.

@@ -188,6 +188,32 @@ template <class T, class A>
 inline void to_host(const std::vector<T, A>&, std::size_t) {}
 #endif
 
+/// A host array a kernel reads (a caller's mask, say): the array itself in host builds; in offload builds a
+/// copy of it in `scratch`, sent to the device for this call.
+template <class T>
+const T* on_device(const T* host, std::size_t n, DeviceVector<T>& scratch) {
+  if constexpr (!offload_build()) {
+    return host;
+  } else {
+    if (!host) return nullptr;
+    scratch.assign(host, host + n);
+    to_device(scratch);
+    return scratch.data();
+  }
+}
+
+/// How many blocks a row kernel hands its `rows` out in: host builds block rows of about
+/// `entries_per_block` list entries each (one dispatched call per block, equal work per thread although
+/// rows differ in length); offload builds one row per iteration.
+constexpr int row_blocks(int rows, long long entries, int entries_per_block) {
+  if constexpr (offload_build()) {
+    return rows;
+  } else {
+    const long long b = entries / entries_per_block;
+    return rows == 0 ? 0 : (b < 1 ? 1 : static_cast<int>(b));
+  }
+}
+
 /// Aborts with file, line and the argument's name when a non-null pointer is not on the device.
 void check_resident(const char* file, int line, const char* names, const void* const* ptrs, int n);
 template <class... P>
@@ -197,6 +223,19 @@ inline void check_resident_args(const char* file, int line, const char* names, c
 }
 
 }  // namespace debris::exec
+
+// Function versions for x86 hosts (target_clones): the function is compiled for x86-64 and x86-64-v3 (AVX2
+// + FMA), the HOST_ONLY form also for x86-64-v4 (AVX-512), and the loader picks the best the machine runs,
+// so the default build runs anywhere and still uses wide vectors where they exist.
+//   DEBRIS_CLONES: for code that offload builds also call inside target regions, where function clones do
+//     not exist; empty there.
+//   DEBRIS_HOST_ONLY_CLONES: for host passes that never run on a device; in every build.
+#if defined(DEBRIS_OFFLOAD_TARGET)
+#define DEBRIS_CLONES
+#else
+#define DEBRIS_CLONES __attribute__((target_clones("default", "arch=x86-64-v3")))
+#endif
+#define DEBRIS_HOST_ONLY_CLONES __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4")))
 
 #if defined(DEBRIS_CHECK_RESIDENCY)
 #define DEBRIS_RESIDENT(...) ::debris::exec::check_resident_args(__FILE__, __LINE__, #__VA_ARGS__, __VA_ARGS__)

@@ -51,16 +51,6 @@ Groups::View Groups::view() {
   return View{mode_.data(), vx_.data(), vy_.data(), vz_.data()};
 }
 
-void Groups::kick_rigid(double dt) {
-  for (auto& g : list) {
-    if (g.motion != GroupMotion::force || !(g.mass > 0.0)) continue;
-    const Vec3 dv = (dt / g.mass) * (g.reaction + g.external_force);
-    if (!g.prescribed[0]) g.velocity.x += dv.x;
-    if (!g.prescribed[1]) g.velocity.y += dv.y;
-    if (!g.prescribed[2]) g.velocity.z += dv.z;
-  }
-}
-
 void Groups::sum_by_group(const Particles& p, const double* a, const double* b, const double* c, const double* w,
                           std::vector<Vec3>& out) {
   const int n = static_cast<int>(p.size());

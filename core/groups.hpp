@@ -74,10 +74,6 @@ class Groups {
   };
   View view();
 
-  /// Force mode: v += (reaction + external) / M * dt on the axes that are not prescribed, the
-  /// semi-implicit Euler kick of a rigid body.
-  void kick_rigid(double dt);
-
   /// Sums the current forces of each group's members into Group::reaction (fixed-order blocks).
   void measure_reactions(const Particles& p);
 

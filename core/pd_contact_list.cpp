@@ -10,7 +10,7 @@
 #include "core/bond_list.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
-#include "core/neighbor_list.hpp"
+#include "core/cell_stencil.hpp"
 #include "core/pd_nodes.hpp"
 #include "core/vec3.hpp"
 

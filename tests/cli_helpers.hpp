@@ -52,11 +52,25 @@ inline std::filesystem::path fresh_directory(const std::string& name) {
   return d;
 }
 
+/// `text` with its first `from` replaced by `to`, the way the tests make a bad input from a good one; a test
+/// failure when `from` is not there (an edit that did nothing would test the unedited input).
+inline std::string replace(std::string text, const std::string& from, const std::string& to) {
+  const auto pos = text.find(from);
+  EXPECT_NE(pos, std::string::npos) << from;
+  if (pos != std::string::npos) text.replace(pos, from.size(), to);
+  return text;
+}
+
 /// Writes `text` to `dir`/`name` and returns the path.
 inline std::string write_text_file(const std::filesystem::path& dir, const std::string& name, const std::string& text) {
   const std::filesystem::path path = dir / name;
   std::ofstream(path) << text;
   return path.string();
+}
+
+/// The same, as a path.
+inline std::filesystem::path write(const std::filesystem::path& dir, const std::string& name, const std::string& text) {
+  return std::filesystem::path(write_text_file(dir, name, text));
 }
 
 /// The whole file as text ("" when it cannot be read).

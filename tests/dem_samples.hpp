@@ -4,7 +4,7 @@
 #include <random>
 
 #include "core/lattice.hpp"
-#include "scenarios/common/dem_simulation.hpp"
+#include "scenarios/common/dem/dem_simulation.hpp"
 
 namespace debris::test {
 

@@ -12,9 +12,9 @@
 #include "core/exec.hpp"
 #include "core/pd_contact_list.hpp"
 #include "core/pd_nodes.hpp"
-#include "kernels/pd_bond_passes.hpp"
-#include "kernels/pd_contact.hpp"
-#include "kernels/pd_integrate.hpp"
+#include "kernels/peridem/pd_bond_passes.hpp"
+#include "kernels/peridem/pd_contact.hpp"
+#include "kernels/peridem/pd_integrate.hpp"
 
 namespace debris::test {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <type_traits>
 
-#include "scenarios/common/peridem_simulation.hpp"
+#include "scenarios/common/peridem/peridem_simulation.hpp"
 
 namespace debris::test {
 

@@ -15,9 +15,9 @@
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/io/lammps_data.hpp"
-#include "core/truncated_lognormal.hpp"
-#include "scenarios/common/amorphous_sample.hpp"
-#include "scenarios/common/dem_simulation.hpp"
+#include "scenarios/common/dem/truncated_lognormal.hpp"
+#include "scenarios/common/dem/amorphous_sample.hpp"
+#include "scenarios/common/dem/dem_simulation.hpp"
 
 namespace debris {
 namespace {

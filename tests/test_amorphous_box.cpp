@@ -9,7 +9,7 @@
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/io/input.hpp"
-#include "scenarios/common/amorphous_sample.hpp"
+#include "scenarios/common/dem/amorphous_sample.hpp"
 #include "tests/cli_helpers.hpp"
 
 namespace debris {

@@ -16,8 +16,8 @@
 #include "core/error.hpp"
 #include "core/io/hdf5_file.hpp"
 #include "core/io/lammps_data.hpp"
-#include "scenarios/common/dem_input.hpp"
-#include "scenarios/common/dem_simulation.hpp"
+#include "scenarios/common/dem/dem_input.hpp"
+#include "scenarios/common/dem/dem_simulation.hpp"
 #include "tests/cli_helpers.hpp"
 
 namespace debris {
@@ -188,12 +188,7 @@ TEST(Carve, LabelsSurviveStepsResortCheckpointAndRestart) {
 
 test::CommandResult run_dem(const std::string& args) { return test::run_command(DEBRIS_DEM_EXECUTABLE, args); }
 
-std::string replace(std::string text, const std::string& from, const std::string& to) {
-  const auto pos = text.find(from);
-  EXPECT_NE(pos, std::string::npos) << from;
-  if (pos != std::string::npos) text.replace(pos, from.size(), to);
-  return text;
-}
+using debris::test::replace;
 
 /// id -> value of `column` in the last frame of a LAMMPS dump.
 std::map<std::int64_t, double> last_frame_column(const fs::path& dump, const std::string& column) {

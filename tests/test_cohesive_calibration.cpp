@@ -7,7 +7,7 @@
 
 #include "core/error.hpp"
 #include "core/particles.hpp"
-#include "kernels/cohesive_material.hpp"
+#include "kernels/dem/cohesive_material.hpp"
 
 namespace debris {
 namespace {

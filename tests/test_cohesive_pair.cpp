@@ -8,7 +8,7 @@
 #include <random>
 #include <string>
 
-#include "kernels/cohesive_pair_force.hpp"
+#include "kernels/dem/cohesive_pair_force.hpp"
 
 namespace debris {
 namespace {

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "core/io/hdf5_file.hpp"
-#include "scenarios/common/dem_simulation.hpp"
+#include "scenarios/common/dem/dem_simulation.hpp"
 #include "tests/cli_helpers.hpp"
 
 namespace {
@@ -45,17 +45,9 @@ output:
 )";
 }
 
-std::string replace(std::string text, const std::string& from, const std::string& to) {
-  const auto pos = text.find(from);
-  EXPECT_NE(pos, std::string::npos) << from;
-  if (pos != std::string::npos) text.replace(pos, from.size(), to);
-  return text;
-}
+using debris::test::replace;
 
-fs::path write(const fs::path& dir, const std::string& name, const std::string& text) {
-  std::ofstream(dir / name) << text;
-  return dir / name;
-}
+using debris::test::write;
 
 using debris::test::slurp;
 

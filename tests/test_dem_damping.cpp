@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <numbers>
 
-#include "scenarios/common/dem_simulation.hpp"
+#include "scenarios/common/dem/dem_simulation.hpp"
 
 namespace debris {
 namespace {

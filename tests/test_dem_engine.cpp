@@ -13,8 +13,8 @@
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/lattice.hpp"
-#include "kernels/integrate.hpp"
-#include "scenarios/common/dem_simulation.hpp"
+#include "kernels/dem/integrate.hpp"
+#include "scenarios/common/dem/dem_simulation.hpp"
 
 namespace debris {
 namespace {

@@ -9,7 +9,7 @@
 #include <filesystem>
 
 #include "core/error.hpp"
-#include "scenarios/common/dem_simulation.hpp"
+#include "scenarios/common/dem/dem_simulation.hpp"
 #include "tests/dem_samples.hpp"
 
 namespace debris {

@@ -21,9 +21,9 @@
 
 #include "core/exec.hpp"
 #include "core/io/hdf5_file.hpp"
-#include "scenarios/common/dem_simulation.hpp"
-#include "scenarios/common/peridem_input.hpp"
-#include "scenarios/common/peridem_simulation.hpp"
+#include "scenarios/common/dem/dem_simulation.hpp"
+#include "scenarios/common/peridem/peridem_input.hpp"
+#include "scenarios/common/peridem/peridem_simulation.hpp"
 #include "tests/cli_helpers.hpp"
 #include "tests/dem_samples.hpp"
 #include "tests/pd_state_equality.hpp"

@@ -1,4 +1,4 @@
-// Rigid groups on any thread count: a force group's reaction moves it (kick_rigid), so its sum must have
+// Rigid groups on any thread count: a force group's reaction moves it (kick_rigid_groups), so its sum must have
 // the same bits whatever the number of threads. The default debris_dem input (a top wall loaded by a
 // stress), enlarged to span several of the fixed summation blocks, gives bit-identical states on 1 and 2
 // threads, and a checkpoint written on 2 threads and continued on 1 equals the uninterrupted run.
@@ -9,8 +9,8 @@
 
 #include "core/exec.hpp"
 #include "core/io/input.hpp"
-#include "scenarios/common/dem_input.hpp"
-#include "scenarios/common/dem_simulation.hpp"
+#include "scenarios/common/dem/dem_input.hpp"
+#include "scenarios/common/dem/dem_simulation.hpp"
 
 namespace debris {
 namespace {

@@ -11,8 +11,8 @@
 #include "core/error.hpp"
 #include "core/io/hdf5_file.hpp"
 #include "core/io/input.hpp"
-#include "scenarios/common/dem_input.hpp"
-#include "scenarios/common/dem_simulation.hpp"
+#include "scenarios/common/dem/dem_input.hpp"
+#include "scenarios/common/dem/dem_simulation.hpp"
 #include "tests/cli_helpers.hpp"
 
 namespace debris {

@@ -17,7 +17,7 @@
 #include "core/exec.hpp"
 #include "core/neighbor_list.hpp"
 #include "core/particles.hpp"
-#include "kernels/cohesive_material.hpp"
+#include "kernels/dem/cohesive_material.hpp"
 
 namespace debris {
 namespace {

@@ -20,7 +20,7 @@
 #include "core/exec.hpp"
 #include "core/io/lammps_data.hpp"
 #include "core/lattice.hpp"
-#include "scenarios/common/patch_test.hpp"
+#include "scenarios/patch/patch_test.hpp"
 #include "tests/cli_helpers.hpp"
 
 namespace debris {
@@ -479,12 +479,7 @@ output:
 )";
 }
 
-std::string replace(std::string text, const std::string& from, const std::string& to) {
-  const auto pos = text.find(from);
-  EXPECT_NE(pos, std::string::npos) << from;
-  if (pos != std::string::npos) text.replace(pos, from.size(), to);
-  return text;
-}
+using debris::test::replace;
 
 Result run_input(const fs::path& dir, const std::string& yaml) {
   std::ofstream(dir / "in.yaml") << yaml;

@@ -18,8 +18,8 @@
 
 #include "core/error.hpp"
 #include "core/exec.hpp"
-#include "scenarios/common/amorphous_sample.hpp"
-#include "scenarios/common/patch_test.hpp"
+#include "scenarios/common/dem/amorphous_sample.hpp"
+#include "scenarios/patch/patch_test.hpp"
 #include "tests/cli_helpers.hpp"
 
 namespace debris {
@@ -206,12 +206,7 @@ output:
 )";
 }
 
-std::string replace(std::string text, const std::string& from, const std::string& to) {
-  const auto pos = text.find(from);
-  EXPECT_NE(pos, std::string::npos) << from;
-  if (pos != std::string::npos) text.replace(pos, from.size(), to);
-  return text;
-}
+using debris::test::replace;
 
 using debris::test::slurp;
 

@@ -27,9 +27,9 @@
 #include "core/exec.hpp"
 #include "core/pd_nodes.hpp"
 #include "core/vec3.hpp"
-#include "kernels/lps_bond_force.hpp"
-#include "kernels/pd_bond_passes.hpp"
-#include "kernels/pd_material.hpp"
+#include "kernels/peridem/lps_bond_force.hpp"
+#include "kernels/peridem/pd_bond_passes.hpp"
+#include "kernels/peridem/pd_material.hpp"
 #include "tests/pd_on_device.hpp"
 
 namespace debris {

@@ -19,10 +19,10 @@
 #include "core/exec.hpp"
 #include "core/pd_contact_list.hpp"
 #include "core/pd_nodes.hpp"
-#include "kernels/pd_contact.hpp"
-#include "kernels/pd_contact_force.hpp"
-#include "kernels/pd_contact_params.hpp"
-#include "kernels/pd_integrate.hpp"
+#include "kernels/peridem/pd_contact.hpp"
+#include "kernels/peridem/pd_contact_force.hpp"
+#include "kernels/peridem/pd_contact_params.hpp"
+#include "kernels/peridem/pd_integrate.hpp"
 #include "tests/pd_on_device.hpp"
 
 namespace debris {

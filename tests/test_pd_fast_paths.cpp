@@ -1,6 +1,6 @@
 // The optimised paths of the PeriDEM passes against plain references: the bond passes (vector loops over
 // padded rows, per-node force factors, break + dilatation fused in pd_bond_step, rows handed out in blocks
-// of equal work) against the pure bond functions of kernels/lps_bond_force.hpp summed node by node, and
+// of equal work) against the pure bond functions of kernels/peridem/lps_bond_force.hpp summed node by node, and
 // against the separate passes and another thread count; the contact list's buffered rows against a
 // brute-force pair search, with rows longer than the buffer.
 #include <gtest/gtest.h>
@@ -15,9 +15,9 @@
 #include "core/exec.hpp"
 #include "core/pd_contact_list.hpp"
 #include "core/pd_nodes.hpp"
-#include "kernels/lps_bond_force.hpp"
-#include "kernels/pd_bond_passes.hpp"
-#include "kernels/pd_material.hpp"
+#include "kernels/peridem/lps_bond_force.hpp"
+#include "kernels/peridem/pd_bond_passes.hpp"
+#include "kernels/peridem/pd_material.hpp"
 #include "tests/pd_on_device.hpp"
 
 namespace debris {

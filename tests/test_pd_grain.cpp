@@ -12,10 +12,10 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "core/grain_placement.hpp"
+#include "scenarios/common/peridem/grain_placement.hpp"
 #include "core/io/gmsh_msh.hpp"
 #include "core/io/grain_csv.hpp"
-#include "core/nodal_volume.hpp"
+#include "scenarios/common/peridem/nodal_volume.hpp"
 #include "tests/cli_helpers.hpp"
 
 namespace debris {

@@ -16,7 +16,7 @@
 
 #include "core/error.hpp"
 #include "core/io/gmsh_msh.hpp"
-#include "core/nodal_volume.hpp"
+#include "scenarios/common/peridem/nodal_volume.hpp"
 #include "tests/cli_helpers.hpp"
 
 namespace debris {

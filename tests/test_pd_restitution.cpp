@@ -11,10 +11,10 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "core/grain_placement.hpp"
-#include "core/shape_mesh.hpp"
-#include "scenarios/common/peridem_simulation.hpp"
-#include "scenarios/common/two_particle_drop.hpp"
+#include "scenarios/common/peridem/grain_placement.hpp"
+#include "scenarios/common/peridem/shape_mesh.hpp"
+#include "scenarios/common/peridem/peridem_simulation.hpp"
+#include "scenarios/restitution/two_particle_drop.hpp"
 
 namespace debris {
 namespace {
@@ -133,7 +133,7 @@ TEST(PdRestitution, Table4MeshStudyRow2) {
 }
 
 // The energy budget of one drop of run_two_particle_drop's set-up (the same meshes, placement, contact and
-// start: scenarios/common/two_particle_drop.cpp), stepped here. The top grain is the only thing that moves
+// start: scenarios/restitution/two_particle_drop.cpp), stepped here. The top grain is the only thing that moves
 // (the bottom one is fixed), so its energy at the start, 1/2 M v^2 (M = rho sum V), goes into
 //   kinetic + bond + contact energy + M g (y_c - y_c0)     what the system still holds
 //   + the work of the centre damping                        eqs 26-28, computed here from the paper

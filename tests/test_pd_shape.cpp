@@ -14,8 +14,8 @@
 
 #include "core/error.hpp"
 #include "core/io/gmsh_msh.hpp"
-#include "core/nodal_volume.hpp"
-#include "core/shape_mesh.hpp"
+#include "scenarios/common/peridem/nodal_volume.hpp"
+#include "scenarios/common/peridem/shape_mesh.hpp"
 #include "tests/cli_helpers.hpp"
 
 namespace debris {

@@ -10,10 +10,10 @@
 #include <cstdio>
 #include <string>
 
-#include "kernels/pd_bond_passes.hpp"
-#include "kernels/pd_integrate.hpp"
-#include "scenarios/common/peridem_input.hpp"
-#include "scenarios/common/peridem_simulation.hpp"
+#include "kernels/peridem/pd_bond_passes.hpp"
+#include "kernels/peridem/pd_integrate.hpp"
+#include "scenarios/common/peridem/peridem_input.hpp"
+#include "scenarios/common/peridem/peridem_simulation.hpp"
 #include "tests/pd_on_device.hpp"
 
 namespace debris {

@@ -20,8 +20,8 @@
 #include <string>
 #include <vector>
 
-#include "scenarios/common/peridem_input.hpp"
-#include "scenarios/common/peridem_simulation.hpp"
+#include "scenarios/common/peridem/peridem_input.hpp"
+#include "scenarios/common/peridem/peridem_simulation.hpp"
 
 namespace debris {
 namespace {

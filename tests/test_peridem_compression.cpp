@@ -34,8 +34,8 @@
 #include <string>
 #include <vector>
 
-#include "scenarios/common/peridem_input.hpp"
-#include "scenarios/common/stages.hpp"
+#include "scenarios/common/peridem/peridem_input.hpp"
+#include "scenarios/common/run/stages.hpp"
 #include "tests/cli_helpers.hpp"
 
 namespace {

@@ -18,8 +18,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "scenarios/common/peridem_input.hpp"
-#include "scenarios/common/peridem_simulation.hpp"
+#include "scenarios/common/peridem/peridem_input.hpp"
+#include "scenarios/common/peridem/peridem_simulation.hpp"
 #include "tests/cli_helpers.hpp"
 
 namespace debris {
@@ -31,12 +31,7 @@ const std::string kScenarios = std::string(DEBRIS_SOURCE_DIR) + "/scenarios/peri
 
 using debris::test::slurp;
 
-std::string replace(std::string text, const std::string& from, const std::string& to) {
-  const auto pos = text.find(from);
-  EXPECT_NE(pos, std::string::npos) << from;
-  if (pos != std::string::npos) text.replace(pos, from.size(), to);
-  return text;
-}
+using debris::test::replace;
 
 std::string replace_all(std::string text, const std::string& from, const std::string& to) {
   for (auto pos = text.find(from); pos != std::string::npos; pos = text.find(from, pos + to.size()))

@@ -35,7 +35,7 @@
 #include <string>
 #include <vector>
 
-#include "scenarios/common/peridem_input.hpp"
+#include "scenarios/common/peridem/peridem_input.hpp"
 #include "tests/cli_helpers.hpp"
 
 namespace {

@@ -17,8 +17,8 @@
 #include "core/exec.hpp"
 #include "core/io/hdf5_file.hpp"
 #include "core/io/node_trajectory_writer.hpp"
-#include "scenarios/common/peridem_input.hpp"
-#include "scenarios/common/peridem_simulation.hpp"
+#include "scenarios/common/peridem/peridem_input.hpp"
+#include "scenarios/common/peridem/peridem_simulation.hpp"
 #include "tests/cli_helpers.hpp"
 #include "tests/pd_state_equality.hpp"
 

@@ -28,16 +28,9 @@ CommandResult run_peridem(const std::string& args) { return run_command(DEBRIS_P
 
 fs::path scratch(const std::string& name) { return debris::test::fresh_directory("debris_reliability_" + name); }
 
-fs::path write(const fs::path& dir, const std::string& name, const std::string& text) {
-  return debris::test::write_text_file(dir, name, text);
-}
+using debris::test::write;
 
-std::string replace(std::string text, const std::string& from, const std::string& to) {
-  const auto pos = text.find(from);
-  EXPECT_NE(pos, std::string::npos) << from;
-  if (pos != std::string::npos) text.replace(pos, from.size(), to);
-  return text;
-}
+using debris::test::replace;
 
 bool mentions(const std::string& text, const std::string& what) { return text.find(what) != std::string::npos; }
 

@@ -28,17 +28,9 @@ double number(const std::map<std::string, std::string>& row, const std::string& 
   return debris::test::csv_number(row, key);
 }
 
-fs::path write(const fs::path& dir, const std::string& name, const std::string& text) {
-  std::ofstream(dir / name) << text;
-  return dir / name;
-}
+using debris::test::write;
 
-std::string replace(std::string text, const std::string& from, const std::string& to) {
-  const auto pos = text.find(from);
-  EXPECT_NE(pos, std::string::npos) << from;
-  if (pos != std::string::npos) text.replace(pos, from.size(), to);
-  return text;
-}
+using debris::test::replace;
 
 // ---------------------------------------------------------------------------------------------------------
 // debris_restitution: Table 2 test 2 of paper B as scenarios/restitution/tables.yaml runs it, but on the

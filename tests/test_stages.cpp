@@ -1,4 +1,4 @@
-// Staged runs through the shared runner (scenarios/common/runner.hpp, stages.hpp), for both executables:
+// Staged runs through the shared runner (scenarios/common/run/runner.hpp, stages.hpp), for both executables:
 // each stage's changes act from its first step (a group driven at a new velocity moves exactly v dt per
 // step; a wall placed and set moving is where it was put and moves at its velocity), a run split by
 // --restart inside a stage or exactly at a stage boundary equals the uninterrupted run bit for bit, and
@@ -28,12 +28,7 @@ CommandResult run_peridem(const std::string& args) {
   return debris::test::run_command(DEBRIS_PERIDEM_EXECUTABLE, args);
 }
 
-std::string replace(std::string text, const std::string& from, const std::string& to) {
-  const auto pos = text.find(from);
-  EXPECT_NE(pos, std::string::npos) << from;
-  if (pos != std::string::npos) text.replace(pos, from.size(), to);
-  return text;
-}
+using debris::test::replace;
 
 std::vector<std::vector<double>> csv_rows(const std::string& text) {
   std::vector<std::vector<double>> rows;

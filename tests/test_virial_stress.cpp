@@ -1,4 +1,4 @@
-// The average virial stress (kernels/virial_stress) against exact references: one pair in closed form
+// The average virial stress (kernels/dem/virial_stress) against exact references: one pair in closed form
 // (normal law of eq 3, tangential spring and damping of eq 2), the kinetic part of free particles, and the
 // strain derivative of the elastic energy of strained HCP lattices (periodic, and a free cluster for shear
 // strains). Then the HCP patch-test geometry of paper section 3.1: 12 interacting neighbours from
@@ -18,10 +18,10 @@
 #include "core/lattice.hpp"
 #include "core/neighbor_list.hpp"
 #include "core/particles.hpp"
-#include "kernels/cohesive_contact.hpp"
-#include "kernels/cohesive_material.hpp"
-#include "kernels/cohesive_pair_force.hpp"
-#include "kernels/virial_stress.hpp"
+#include "kernels/dem/cohesive_contact.hpp"
+#include "kernels/dem/cohesive_material.hpp"
+#include "kernels/dem/cohesive_pair_force.hpp"
+#include "kernels/dem/virial_stress.hpp"
 
 namespace debris {
 namespace {

@@ -1,4 +1,4 @@
-// The wear analysis (scenarios/common/wear_analysis.hpp) on systems whose answer is known by construction:
+// The wear analysis (scenarios/common/dem/wear_analysis.hpp) on systems whose answer is known by construction:
 // a cohesive ball set rolling without slip between a fixed and a moving wall (out of their reach) is a
 // third body with centre speed 1/2 of the wall's and rolling number 1; the same ball sliding without spin is
 // a third body that does not roll; one cohesive block between the walls has no third body at all.
@@ -11,8 +11,8 @@
 #include "core/error.hpp"
 
 #include "core/lattice.hpp"
-#include "scenarios/common/dem_simulation.hpp"
-#include "scenarios/common/wear_analysis.hpp"
+#include "scenarios/common/dem/dem_simulation.hpp"
+#include "scenarios/common/dem/wear_analysis.hpp"
 
 namespace debris {
 namespace {

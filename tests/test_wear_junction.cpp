@@ -102,12 +102,7 @@ TEST(WearJunctionRolling, D20AtD0OneAndAHalfNmIsARollingWearParticleAsInThePaper
 // analysis's window, bond record and samples are in the checkpoint. The slide is 4 ns here (52,500 steps).
 TEST(WearJunctionRestart, ChunkedRunEqualsTheRunInOnePiece) {
   const fs::path d = debris::test::fresh_directory("debris_wear_chunks");
-  auto replace = [](std::string t, const std::string& from, const std::string& to) {
-    const auto at = t.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    if (at != std::string::npos) t.replace(at, from.size(), to);
-    return t;
-  };
+  using debris::test::replace;
   std::string full = debris::test::slurp(fs::path(DEBRIS_SOURCE_DIR) / "scenarios" / "wear" / "junction_D20_d0_6nm.yaml");
   full = replace(full, "lammps_data: data/", "lammps_data: " + std::string(DEBRIS_SOURCE_DIR) + "/scenarios/wear/data/");
   full = replace(full, "duration: 10.0 ns", "duration: 4.0 ns");
@@ -161,12 +156,7 @@ TEST(WearJunctionInput, BadSetUpsAreNamedErrors) {
   const fs::path dir = debris::test::fresh_directory("debris_wear_bad");
   const std::string good =
       debris::test::slurp(fs::path(DEBRIS_SOURCE_DIR) / "scenarios" / "wear" / "junction_D20_d0_6nm.yaml");
-  auto replace = [](std::string t, const std::string& from, const std::string& to) {
-    const auto at = t.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    if (at != std::string::npos) t.replace(at, from.size(), to);
-    return t;
-  };
+  using debris::test::replace;
   const std::string data = std::string(DEBRIS_SOURCE_DIR) + "/scenarios/wear/data/";
   const std::string base = replace(good, "lammps_data: data/", "lammps_data: " + data);
   struct Bad {

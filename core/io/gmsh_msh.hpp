@@ -22,8 +22,6 @@ struct SimplexMesh {
   std::vector<std::int64_t> node_tag;          // Gmsh tag of each node
   std::vector<std::array<int, 3>> triangles;   // dimension 2 only
   std::vector<std::array<int, 4>> tetrahedra;  // dimension 3 only
-
-  std::size_t num_elements() const { return dimension == 3 ? tetrahedra.size() : triangles.size(); }
 };
 
 /// Throws InputError naming the file and the line for malformed or unsupported content: binary files,

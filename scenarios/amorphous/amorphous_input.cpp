@@ -4,7 +4,7 @@
 
 #include "core/error.hpp"
 #include "core/io/input.hpp"
-#include "scenarios/common/cohesive_material_input.hpp"
+#include "scenarios/common/dem/cohesive_material_input.hpp"
 
 namespace debris {
 

@@ -1,11 +1,11 @@
 #pragma once
-// The debris_amorphous input file: the material, the sample recipe (scenarios/common/amorphous_sample.hpp),
+// The debris_amorphous input file: the material, the sample recipe (scenarios/common/dem/amorphous_sample.hpp),
 // an optional sweep over d0 and s, output and run settings. Read apart from the run so that every sample of
 // a sweep is checked before the first one runs, and so that the fuzzer (tests/fuzz) can reach the reader.
 #include <string>
 #include <vector>
 
-#include "scenarios/common/amorphous_sample.hpp"
+#include "scenarios/common/dem/amorphous_sample.hpp"
 
 namespace debris {
 

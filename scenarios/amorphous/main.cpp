@@ -1,5 +1,5 @@
 // debris_amorphous: makes relaxed amorphous samples of the cohesive DEM (Pham-Ba & Molinari, section 3.2;
-// the recipe is in scenarios/common/amorphous_sample.hpp) from one YAML input, one sample or a sweep over d0
+// the recipe is in scenarios/common/dem/amorphous_sample.hpp) from one YAML input, one sample or a sweep over d0
 // and s. Writes, into the output directory: each sample as samples/<tag>.data (LAMMPS) and .h5, its
 // relaxation history relax_<tag>.csv, one row per sample in summary.csv, and the paper's Fig 7 (relaxed
 // volume fraction vs d0 / d_c per s, with the HCP packing fraction) as volume_fraction_vs_d0.png when
@@ -24,7 +24,7 @@
 #include "core/io/thermo_csv.hpp"
 #include "core/thread_tuner.hpp"
 #include "scenarios/amorphous/amorphous_input.hpp"
-#include "scenarios/common/amorphous_sample.hpp"
+#include "scenarios/common/dem/amorphous_sample.hpp"
 
 namespace {
 

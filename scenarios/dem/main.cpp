@@ -1,7 +1,7 @@
 // debris_dem: runs a cohesive DEM system (Pham-Ba & Molinari) described by one YAML input file on host
 // threads (or a GPU in an nvptx build). Writes a thermo CSV, LAMMPS dump frames (OVITO), an HDF5 trajectory
 // with an XDMF sidecar (ParaView) and checkpoints to the output directory; `--restart` continues from a
-// checkpoint. The run loop, stages included, is the shared runner's (scenarios/common/runner.hpp); this
+// checkpoint. The run loop, stages included, is the shared runner's (scenarios/common/run/runner.hpp); this
 // file says what a DEM run writes and checks. Bad input ends with one message naming the key and the value
 // and exit 2, before anything is written; a run whose state turns non-finite or explodes stops with exit 3,
 // a message naming the step and the particle, and keeps the last good checkpoint.
@@ -20,10 +20,10 @@
 #include "core/io/hdf5_file.hpp"
 #include "core/io/thermo_csv.hpp"
 #include "core/io/trajectory_writer.hpp"
-#include "kernels/integrate.hpp"
-#include "scenarios/common/checkpoint_file.hpp"
-#include "scenarios/common/dem_input.hpp"
-#include "scenarios/common/runner.hpp"
+#include "kernels/dem/integrate.hpp"
+#include "scenarios/common/run/checkpoint_file.hpp"
+#include "scenarios/common/dem/dem_input.hpp"
+#include "scenarios/common/run/runner.hpp"
 
 namespace {
 

@@ -9,7 +9,7 @@
 
 #include "core/error.hpp"
 #include "core/io/hdf5_file.hpp"
-#include "scenarios/common/patch_test.hpp"
+#include "scenarios/patch/patch_test.hpp"
 
 namespace debris {
 

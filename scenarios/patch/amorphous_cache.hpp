@@ -1,6 +1,6 @@
 #pragma once
 // The amorphous samples of a debris_patch run: each is made once by the section 3.2 recipe
-// (scenarios/common/amorphous_sample.hpp) and saved as <directory>/<tag>.h5 and .data, so that the tests
+// (scenarios/common/dem/amorphous_sample.hpp) and saved as <directory>/<tag>.h5 and .data, so that the tests
 // of one sample (elastic, tension, shear) and later runs of the same input share it. A saved file is used
 // only when the recipe key stored in it (amorphous_spec_key) equals the case's: any change of material,
 // size, seed or relaxation setting makes a new sample. A sample is always read back from its file, so a
@@ -9,7 +9,7 @@
 #include <ostream>
 #include <string>
 
-#include "scenarios/common/amorphous_sample.hpp"
+#include "scenarios/common/dem/amorphous_sample.hpp"
 
 namespace debris {
 

@@ -10,7 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/io/input.hpp"
-#include "scenarios/common/cohesive_material_input.hpp"
+#include "scenarios/common/dem/cohesive_material_input.hpp"
 #include "core/io/lammps_data.hpp"
 #include "scenarios/patch/amorphous_cache.hpp"
 

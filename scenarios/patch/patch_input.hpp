@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "scenarios/common/amorphous_sample.hpp"
-#include "scenarios/common/patch_test.hpp"
+#include "scenarios/common/dem/amorphous_sample.hpp"
+#include "scenarios/patch/patch_test.hpp"
 
 namespace debris {
 

@@ -1,12 +1,12 @@
 // debris_peridem: runs a PeriDEM system (paper B: peridynamic grains that deform and break, in contact with
-// each other and with rigid walls) described by one YAML input file (scenarios/common/peridem_input.hpp).
+// each other and with rigid walls) described by one YAML input file (scenarios/common/peridem/peridem_input.hpp).
 // Writes a thermo CSV (energies, damage, broken bonds, contacts, wall reactions and, for runs with few
 // grains, each grain's centre, velocity and damage), HDF5 + XDMF node frames with damage, grain id and
 // velocity (ParaView) and checkpoints to the output directory; `--restart` continues from a checkpoint bit
 // for bit. Bad input ends with one message naming the key and the value and exit 2, before anything is
 // written; a run whose state turns non-finite or explodes stops with exit 3 and a message naming the step
 // and the node, and keeps the last good checkpoint. The run loop, stages included, is the shared runner's
-// (scenarios/common/runner.hpp); this file says what a PeriDEM run writes and checks.
+// (scenarios/common/run/runner.hpp); this file says what a PeriDEM run writes and checks.
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -19,8 +19,8 @@
 #include "core/exec.hpp"
 #include "core/io/input.hpp"
 #include "core/io/node_trajectory_writer.hpp"
-#include "scenarios/common/peridem_input.hpp"
-#include "scenarios/common/runner.hpp"
+#include "scenarios/common/peridem/peridem_input.hpp"
+#include "scenarios/common/run/runner.hpp"
 
 namespace {
 

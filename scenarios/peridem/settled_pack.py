@@ -5,7 +5,7 @@
         [--reference FIRST_TRAJECTORY.h5] [--shrink EPS] [--clear-walls R_C]
 
 PARTICLES.csv is the particle list the run started from (PeriDEM's i, x, y, z, r, o: zone, centre, radius,
-rotation about z). Grains are made zone by zone, file order within a zone (core/grain_placement.hpp), and
+rotation about z). Grains are made zone by zone, file order within a zone (scenarios/common/peridem/grain_placement.hpp), and
 OUT.csv keeps the rows in PARTICLES.csv's order. Each grain's pose in frame K (default: the last)
 is the rigid motion that best maps its nodes as placed at step 0 onto frame K (2D Kabsch, volume-weighted;
 the placement is frame 0 of --reference, by default of TRAJECTORY.h5: a run continued with --restart writes

@@ -8,7 +8,7 @@
 #include "core/error.hpp"
 #include "core/io/input.hpp"
 #include "core/units.hpp"
-#include "scenarios/common/peridem_input.hpp"
+#include "scenarios/common/peridem/peridem_input.hpp"
 
 namespace debris {
 

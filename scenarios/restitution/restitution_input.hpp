@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "scenarios/common/two_particle_drop.hpp"
+#include "scenarios/restitution/two_particle_drop.hpp"
 
 namespace debris {
 

@@ -20,7 +20,7 @@ import sys
 
 VERDICTS = {0: "ductile", 1: "detached, not rolling", 2: "rolling wear particle"}
 
-# The pass table's last row (scenarios/common/runner.cpp):
+# The pass table's last row (scenarios/common/run/runner.cpp):
 #   total             12.345   100.0%  3.68 M particle-steps/s while stepping
 TOTAL = re.compile(r"^total\s+([0-9.eE+-]+)\s+[0-9.eE+-]+%\s+([0-9.eE+-]+) M particle-steps/s while stepping",
                    re.MULTILINE)

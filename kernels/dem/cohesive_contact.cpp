@@ -1,0 +1,115 @@
+#include "kernels/dem/cohesive_contact.hpp"
+
+#include <stdexcept>
+
+#include "core/block_sums.hpp"
+#include "core/contact_history.hpp"
+#include "core/exec.hpp"
+#include "core/neighbor_list.hpp"
+#include "core/particles.hpp"
+
+namespace debris {
+
+void cohesive_contact_pass(const CohesiveCoefficients& c, const CohesiveOptions& opt, const BoxView& box,
+                           Particles& p, const NeighborList& list, ContactHistory& history, double dt,
+                           int update_history) {
+  if (list.kind() != NeighborKind::full) throw std::logic_error("cohesive_contact_pass needs a full list");
+  const int n = list.rows();
+  const int* __restrict offset = list.offset().data();
+  const int* __restrict index = list.index().data();
+  const double *__restrict x = p.x.data(), *__restrict y = p.y.data(), *__restrict z = p.z.data();
+  const double *__restrict vx = p.vx.data(), *__restrict vy = p.vy.data(), *__restrict vz = p.vz.data();
+  const double *__restrict wx = p.wx.data(), *__restrict wy = p.wy.data(), *__restrict wz = p.wz.data();
+  const double *__restrict radius = p.radius.data(), *__restrict mass = p.mass.data();
+  double *__restrict fx = p.fx.data(), *__restrict fy = p.fy.data(), *__restrict fz = p.fz.data();
+  double *__restrict tx = p.tx.data(), *__restrict ty = p.ty.data(), *__restrict tz = p.tz.data();
+  double *__restrict hx = history.hx.data(), *__restrict hy = history.hy.data(), *__restrict hz = history.hz.data();
+  const CohesiveCoefficients coef = c;
+  const CohesiveOptions o = opt;
+  const BoxView b = box;
+  DEBRIS_RESIDENT(offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius, mass, fx, fy, fz, tx, ty, tz, hx, hy, hz);
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    const Vec3 xi{x[i], y[i], z[i]}, vi{vx[i], vy[i], vz[i]}, wi{wx[i], wy[i], wz[i]};
+    const double ri = radius[i], mi = mass[i];
+    Vec3 f{}, t{};
+    for (int k = offset[i]; k < offset[i + 1]; ++k) {
+      const int j = index[k];
+      const Vec3 dx = minimum_image(b, xi - Vec3{x[j], y[j], z[j]});
+      const CohesivePairParams pp = cohesive_pair_params(coef, ri, radius[j], mi, mass[j]);
+      Vec3 h{hx[k], hy[k], hz[k]};
+      const CohesivePairResult r = cohesive_pair_force(pp, o, dx, ri, radius[j], vi, Vec3{vx[j], vy[j], vz[j]},
+                                                       wi, Vec3{wx[j], wy[j], wz[j]}, h, dt, update_history);
+      hx[k] = h.x;
+      hy[k] = h.y;
+      hz[k] = h.z;
+      f += r.force;
+      t += r.torque;
+    }
+    fx[i] += f.x;
+    fy[i] += f.y;
+    fz[i] += f.z;
+    tx[i] += t.x;
+    ty[i] += t.y;
+    tz[i] += t.z;
+  }
+}
+
+CohesiveDiagnostics cohesive_diagnostics(const CohesiveCoefficients& c, const CohesiveOptions& opt,
+                                         const BoxView& box, const Particles& p, const NeighborList& list,
+                                         const ContactHistory& history) {
+  const int n = list.rows();
+  const int* offset = list.offset().data();
+  const int* index = list.index().data();
+  const double *x = p.x.data(), *y = p.y.data(), *z = p.z.data();
+  const double *radius = p.radius.data(), *mass = p.mass.data();
+  const double *hx = history.hx.data(), *hy = history.hy.data(), *hz = history.hz.data();
+  const CohesiveCoefficients coef = c;
+  const CohesiveOptions o = opt;
+  const BoxView b = box;
+  // A full list holds each pair twice: half of its energy per appearance.
+  const double share = list.kind() == NeighborKind::full ? 0.5 : 1.0;
+  // The energy in fixed-order blocks of rows (core/block_sums.hpp): the same bits on any thread count.
+  const int blocks = sum_blocks(n);
+  BlockPartials partials;
+  double* part = partials.reserve(2 * static_cast<std::size_t>(blocks));
+  DEBRIS_RESIDENT(part, offset, index, x, y, z, radius, mass, hx, hy, hz);
+  DEBRIS_KERNEL
+  for (int blk = 0; blk < blocks; ++blk) {
+    double e = 0.0, q = 0.0;
+    const BlockRange r = block_range(blk, n);
+    for (int i = r.begin; i < r.end; ++i) {
+      for (int k = offset[i]; k < offset[i + 1]; ++k) {
+        const int j = index[k];
+        const Vec3 dx = minimum_image(b, Vec3{x[i] - x[j], y[i] - y[j], z[i] - z[j]});
+        const CohesivePairParams pp = cohesive_pair_params(coef, radius[i], radius[j], mass[i], mass[j]);
+        const double dn = norm(dx) - radius[i] - radius[j];
+        e += share * cohesive_pair_energy(pp, o, dn, Vec3{hx[k], hy[k], hz[k]});
+        if (dn <= (o.adhesive ? pp.delta_f : 0.0)) q += share;
+      }
+    }
+    part[2 * blk] = e;
+    part[2 * blk + 1] = q;
+  }
+  partials.to_host(2 * static_cast<std::size_t>(blocks));
+  const auto sums = partials.add_up<2>(blocks);
+  const double energy = sums[0], pairs = sums[1];
+  double overlap = 0.0;
+  DEBRIS_RESIDENT(offset, index, x, y, z, radius);
+  DEBRIS_KERNEL_MAX(overlap)
+  for (int i = 0; i < n; ++i) {
+    for (int k = offset[i]; k < offset[i + 1]; ++k) {
+      const int j = index[k];
+      const Vec3 dx = minimum_image(b, Vec3{x[i] - x[j], y[i] - y[j], z[i] - z[j]});
+      const double ov = radius[i] + radius[j] - norm(dx);
+      overlap = ov > overlap ? ov : overlap;
+    }
+  }
+  CohesiveDiagnostics d;
+  d.elastic_energy = energy;
+  d.max_overlap = overlap;
+  d.interacting_pairs = static_cast<long>(pairs + 0.5);
+  return d;
+}
+
+}  // namespace debris

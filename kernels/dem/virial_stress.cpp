@@ -1,0 +1,120 @@
+#include "kernels/dem/virial_stress.hpp"
+
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+#include <stdexcept>
+
+#include "core/block_sums.hpp"
+#include "core/contact_history.hpp"
+#include "core/exec.hpp"
+#include "core/neighbor_list.hpp"
+#include "core/particles.hpp"
+
+namespace debris {
+
+namespace {
+
+DEBRIS_DECLARE_TARGET
+
+// The share of row i in the sum: the pair forces of the row from copies of their histories (never advanced),
+// plus m v v when i is selected. A full list meets each pair from both ends, and half of r_ij (x) F_ij goes to
+// each selected end; a half list meets it once and credits the halves of both ends from here (r_ji (x) F_ji
+// = r_ij (x) F_ij). Takes the raw columns one by one (not in a struct) so that an offload build translates
+// each pointer.
+inline StressTensor particle_virial(int i, int half, const int* sel, const int* offset, const int* index, const double* x, const double* y,
+                                    const double* z, const double* vx, const double* vy, const double* vz,
+                                    const double* wx, const double* wy, const double* wz, const double* radius,
+                                    const double* mass, const double* hx, const double* hy, const double* hz,
+                                    const CohesiveCoefficients& coef, const CohesiveOptions& opt, const BoxView& b,
+                                    int kinetic) {
+  const Vec3 xi{x[i], y[i], z[i]}, vi{vx[i], vy[i], vz[i]}, wi{wx[i], wy[i], wz[i]};
+  const double ri = radius[i], mi = mass[i];
+  const double own = (sel == nullptr || sel[i]) ? 0.5 : 0.0;
+  StressTensor w;
+  if (!half && own == 0.0) return w;
+  for (int k = offset[i]; k < offset[i + 1]; ++k) {
+    const int j = index[k];
+    const double share = half ? own + ((sel == nullptr || sel[j]) ? 0.5 : 0.0) : own;
+    if (share == 0.0) continue;
+    const Vec3 dx = minimum_image(b, xi - Vec3{x[j], y[j], z[j]});
+    const CohesivePairParams pp = cohesive_pair_params(coef, ri, radius[j], mi, mass[j]);
+    Vec3 h{hx[k], hy[k], hz[k]};
+    const Vec3 f = cohesive_pair_force(pp, opt, dx, ri, radius[j], vi, Vec3{vx[j], vy[j], vz[j]}, wi,
+                                       Vec3{wx[j], wy[j], wz[j]}, h, 0.0, 0)
+                       .force;
+    w.xx -= share * dx.x * f.x;
+    w.yy -= share * dx.y * f.y;
+    w.zz -= share * dx.z * f.z;
+    w.xy -= share * dx.x * f.y;
+    w.xz -= share * dx.x * f.z;
+    w.yz -= share * dx.y * f.z;
+  }
+  if (kinetic && own > 0) {
+    w.xx -= mi * vi.x * vi.x;
+    w.yy -= mi * vi.y * vi.y;
+    w.zz -= mi * vi.z * vi.z;
+    w.xy -= mi * vi.x * vi.y;
+    w.xz -= mi * vi.x * vi.z;
+    w.yz -= mi * vi.y * vi.z;
+  }
+  return w;
+}
+
+DEBRIS_END_DECLARE_TARGET
+
+}  // namespace
+
+StressTensor virial_stress(const CohesiveCoefficients& c, const CohesiveOptions& opt, const BoxView& box,
+                           const Particles& p, const NeighborList& list, const ContactHistory& history,
+                           const int* select, double volume, bool kinetic) {
+  if (static_cast<std::size_t>(list.rows()) != p.size() ||
+      history.hx.size() != static_cast<std::size_t>(list.entries()))
+    throw std::logic_error("virial_stress: the list and the history do not belong to these particles");
+  if (!(volume > 0)) throw std::invalid_argument("virial_stress: the sample volume must be > 0");
+  const int n = list.rows();
+  const int* offset = list.offset().data();
+  const int* index = list.index().data();
+  const double *x = p.x.data(), *y = p.y.data(), *z = p.z.data();
+  const double *vx = p.vx.data(), *vy = p.vy.data(), *vz = p.vz.data();
+  const double *wx = p.wx.data(), *wy = p.wy.data(), *wz = p.wz.data();
+  const double *radius = p.radius.data(), *mass = p.mass.data();
+  const double *hx = history.hx.data(), *hy = history.hy.data(), *hz = history.hz.data();
+  const int* sel = select;
+  const CohesiveCoefficients coef = c;
+  const CohesiveOptions o = opt;
+  const BoxView b = box;
+  const int kin = kinetic ? 1 : 0;
+  const int half = list.kind() == NeighborKind::half ? 1 : 0;
+  const double inv = 1.0 / volume;
+  // Fixed blocks of particles, each summed in index order, then the block sums in block order on the host
+  // (core/block_sums), so the result is the same bits for any thread count or device (the amorphous
+  // relaxation feeds it back into the box). Blocks of 256, not kSumBlock: the stress has always been summed
+  // so, and a larger block would change its last bits and those of every relaxed sample.
+  constexpr int kVirialBlock = 256;
+  constexpr int K = 6;  // xx, yy, zz, xy, xz, yz
+  const int blocks = sum_blocks(n, kVirialBlock);
+  BlockPartials partials;
+  double* __restrict part = partials.reserve(static_cast<std::size_t>(K) * static_cast<std::size_t>(blocks));
+  // The caller's mask is a host array: a copy on the device for this call (offload builds).
+  exec::DeviceVector<int> select_copy;
+  sel = exec::on_device(sel, static_cast<std::size_t>(n), select_copy);
+  DEBRIS_RESIDENT(part, sel, offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius, mass, hx, hy, hz);
+  DEBRIS_KERNEL
+  for (int blk = 0; blk < blocks; ++blk) {
+    StressTensor t;
+    const BlockRange r = block_range(blk, n, kVirialBlock);
+    for (int i = r.begin; i < r.end; ++i) {
+      const StressTensor w = particle_virial(i, half, sel, offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius,
+                                             mass, hx, hy, hz, coef, o, b, kin);
+      t.xx += w.xx, t.yy += w.yy, t.zz += w.zz, t.xy += w.xy, t.xz += w.xz, t.yz += w.yz;
+    }
+    double* s = part + static_cast<std::size_t>(K) * static_cast<std::size_t>(blk);
+    s[0] = t.xx, s[1] = t.yy, s[2] = t.zz, s[3] = t.xy, s[4] = t.xz, s[5] = t.yz;
+  }
+  partials.to_host(static_cast<std::size_t>(K) * static_cast<std::size_t>(blocks));
+  const auto s = partials.add_up<K>(blocks);
+  return StressTensor{s[0] * inv, s[1] * inv, s[2] * inv, s[3] * inv, s[4] * inv, s[5] * inv};
+}
+
+}  // namespace debris

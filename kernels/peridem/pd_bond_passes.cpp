@@ -1,0 +1,559 @@
+#include "kernels/peridem/pd_bond_passes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "core/block_sums.hpp"
+#include "core/bond_list.hpp"
+#include "core/error.hpp"
+#include "core/exec.hpp"
+#include "core/pd_nodes.hpp"
+#include "core/vec3.hpp"
+#include "kernels/peridem/lps_bond_force.hpp"
+
+namespace debris {
+
+namespace {
+
+// Host-side check before a kernel indexes `lps` through grains.material: every particle grain that owns
+// nodes must name a material of the table (walls own no bonds and are never looked up).
+void check_tables(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
+                  const PdNodes& nodes) {
+  if (bonds.nodes() != nodes.size())
+    throw input_error("bond list", std::to_string(bonds.nodes()) + " rows",
+                      "must have one row per node (" + std::to_string(nodes.size()) + " nodes): rebuild it");
+  for (std::size_t g = 0; g < grains.size(); ++g) {
+    if (grains.kind[g] != static_cast<int>(PdGrainKind::particle)) continue;
+    if (grains.node_begin[g] == grains.node_end[g]) continue;
+    const int mat = grains.material[g];
+    if (mat < 0 || static_cast<std::size_t>(mat) >= lps.size())
+      throw input_error("grain " + std::to_string(g) + " material", std::to_string(mat),
+                        "must index the material table (" + std::to_string(lps.size()) + " materials)");
+  }
+}
+
+// Raw pointers of everything the kernels read, copied into locals before each loop.
+struct BondView {
+  int n;
+  const int* offset;
+  const int* partner;
+  const double* length0;
+  const int* grain;
+  const int* material;
+  const PdLpsConstants* lps;
+};
+
+BondView view(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
+              const PdNodes& nodes) {
+  check_tables(lps, grains, bonds, nodes);
+  return BondView{static_cast<int>(nodes.size()),
+                  bonds.offset.data(),
+                  bonds.partner.data(),
+                  bonds.length0.data(),
+                  nodes.grain.data(),
+                  grains.material.data(),
+                  lps.data()};
+}
+
+}  // namespace
+
+void pd_weighted_volume_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
+                             PdNodes& nodes) {
+  const BondView b = view(lps, grains, bonds, nodes);
+  const int n = b.n;
+  const int* __restrict offset = b.offset, * __restrict partner = b.partner;
+  const int* __restrict grain = b.grain, * __restrict material = b.material;
+  const double* __restrict length0 = b.length0;
+  const PdLpsConstants* __restrict table = b.lps;
+  const double* __restrict volume = nodes.volume.data();
+  double* __restrict m = nodes.weighted_volume.data();
+  DEBRIS_RESIDENT(offset, partner, grain, material, length0, table, volume, m);
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    double sum = 0.0;
+    if (offset[i] < offset[i + 1]) {
+      const double horizon = table[material[grain[i]]].horizon;
+      for (int k = offset[i]; k < offset[i + 1]; ++k) {
+        const double x = length0[k];
+        sum += lps_weighted_volume_term(lps_influence(x / horizon), x, volume[partner[k]]);
+      }
+    }
+    m[i] = sum;
+  }
+}
+
+namespace {
+
+// Host builds compile the row kernels twice (x86-64 and x86-64-v3: AVX2 + FMA; DEBRIS_CLONES) and the
+// loader picks the one the machine runs, as kernels/dem/cohesive_contact_half.cpp does. An AVX-512 clone was
+// no faster on the compressive test: its loops take 16 entries per vector, more than half of a typical row
+// (27 entries).
+#define DEBRIS_PD_ROW_CLONES DEBRIS_CLONES
+
+// Bond entries of one row staged per round: a vector loop computes every entry's term into local arrays,
+// then a scalar loop sums them in entry order into 4 partial sums (fixed, so the sums do not depend on the
+// thread count; there is no reduction inside the vector loop).
+constexpr int kStage = 64;
+
+// Host builds hand rows to the kernels in blocks of about equal bond entries (one dispatched call per block,
+// and two threads get equal work although the wall nodes, which have no bonds, all sit at the end). Offload
+// builds use one row per iteration (exec::row_blocks).
+constexpr int kEntriesPerBlock = 4096;
+int row_blocks(int n, int entries) { return exec::row_blocks(n, entries, kEntriesPerBlock); }
+
+DEBRIS_DECLARE_TARGET
+
+// First row of block b of `blocks` (block b is [block_row(b), block_row(b + 1))): the first row whose bond
+// entries start at or after b / blocks of all entries. With blocks == n it is row b.
+inline int block_row(const int* offset, int n, int blocks, int b) {
+  if (b >= blocks) return n;
+  if (blocks == n) return b;
+  const long long target = static_cast<long long>(offset[n]) * b / blocks;
+  int lo = 0, hi = n;
+  while (lo < hi) {
+    const int mid = lo + (hi - lo) / 2;
+    if (offset[mid] < target)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return lo;
+}
+
+inline double sum4(const double* v, int count) {
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+  int t = 0;
+  for (; t + 4 <= count; t += 4) {
+    s0 += v[t];
+    s1 += v[t + 1];
+    s2 += v[t + 2];
+    s3 += v[t + 3];
+  }
+  for (; t < count; ++t) s0 += v[t];
+  return (s0 + s1) + (s2 + s3);
+}
+
+// The vector loops below run over a row's entries padded to a multiple of kLanes while the padding stays
+// inside the bond arrays: the extra lanes compute terms of the next row's entries (valid indices, finite
+// values) that are never summed, and the loop needs no scalar remainder. kLanes is the widest vector the
+// clones use for these loops (8 ints of 32 bytes).
+constexpr int kLanes = 8;
+inline int padded_count(int k0, int count, int entries) {
+  const int padded = (count + kLanes - 1) / kLanes * kLanes;
+  return k0 + padded <= entries ? padded : count;
+}
+
+// h of eqs 12-13 for entries [k0, k0 + count) as factors 1 (intact) or 0 (broken is 0 or 1) into keep, and
+// 0 for the padding lanes. Most rows have no broken bond: whole words of zero bytes are checked first.
+inline void intact_factors(const unsigned char* broken, int k0, int count, double* keep) {
+  unsigned long long any = 0;
+  int t = 0;
+  for (; t + 8 <= count; t += 8) {
+    unsigned long long word;
+    std::memcpy(&word, broken + k0 + t, sizeof word);
+    any |= word;
+  }
+  for (; t < count; ++t) any |= broken[k0 + t];
+  const int lanes = (count + kLanes - 1) / kLanes * kLanes;  // what padded_count may ask for
+  if (!any) {
+    for (t = 0; t < lanes; ++t) keep[t] = t < count ? 1.0 : 0.0;
+    return;
+  }
+  for (t = 0; t < count; ++t) keep[t] = 1.0 - static_cast<double>(broken[k0 + t]);
+  for (; t < lanes; ++t) keep[t] = 0.0;
+}
+
+DEBRIS_END_DECLARE_TARGET
+
+struct RowInputs {
+  const int* offset;
+  const int* partner;
+  const double* length0;
+  unsigned char* broken;  // written by the break step only
+  const int* grain;
+  const int* material;
+  const PdLpsConstants* lps;
+  const double *x, *y, *z, *volume, *m;
+  double* theta;
+  double* factors;  // P_i, Q_i (lps_node_factors), interleaved
+  double *fx, *fy, *fz;
+  int n, blocks, entries;
+  int do_break, do_theta, do_factors;
+};
+
+DEBRIS_DECLARE_TARGET
+
+// Rows [r0, r1): eq 11 (do_break: mark the intact bonds whose stretch reached s_0; returns the entries
+// marked), then theta_i of eq 34 over the bonds intact after that (do_theta), and the node factors of
+// lps_node_factors (do_factors). One bond length per entry serves both.
+DEBRIS_PD_ROW_CLONES long break_and_dilate_rows(const RowInputs& in, int r0, int r1) {
+  const int* __restrict offset = in.offset;
+  const int* __restrict partner = in.partner;
+  const double* __restrict length0 = in.length0;
+  unsigned char* __restrict broken = in.broken;
+  const double* __restrict x = in.x, * __restrict y = in.y, * __restrict z = in.z;
+  const double* __restrict volume = in.volume, * __restrict m = in.m;
+  double* __restrict theta = in.theta;
+  double* __restrict factors = in.factors;
+  const int do_theta = in.do_theta, do_factors = in.do_factors, entries = in.entries;
+  const double may_break = in.do_break ? 1.0 : 0.0;
+  long marked = 0;
+  double term[kStage], near[kStage], extension[kStage], keep[kStage];
+  for (int i = r0; i < r1; ++i) {
+    const int begin = offset[i], end = offset[i + 1];
+    if (begin == end) {
+      if (do_theta) theta[i] = 0.0;
+      if (do_factors) factors[2 * i] = factors[2 * i + 1] = 0.0;
+      continue;
+    }
+    const PdLpsConstants c = in.lps[in.material[in.grain[i]]];
+    const double xi = x[i], yi = y[i], zi = z[i];
+    // A bond is near s_0 within 0.1 per cent of it: far above the roundings of e, s_0 x0 and e / x0, so every
+    // bond that eq 11 breaks is near, and few others go through the scalar test below.
+    const double inv_horizon = 1.0 / c.horizon, s0 = c.critical_stretch, near_s0 = 0.999 * s0;
+    const double both = c.break_in_compression;  // 1: |e| is tested, not e (a factor, not a branch)
+    const int in_compression = both > 0.0;
+    double sum = 0.0;
+    for (int k0 = begin; k0 < end; k0 += kStage) {
+      const int count = end - k0 < kStage ? end - k0 : kStage;
+      intact_factors(broken, k0, count, keep);
+      const int lanes = padded_count(k0, count, entries);
+      // Every entry's theta term (h = keep) and whether it is near breaking, in a vector loop: all loads
+      // unconditional, no byte column (it would make the vector 32 entries wide, longer than most rows), and
+      // flags as factors 0 or 1 rather than selects between computed values (with trapping floating-point
+      // math the compiler may move such a value under a branch, and then it does not vectorise the loop).
+      DEBRIS_SIMD
+      for (int t = 0; t < lanes; ++t) {
+        const int k = k0 + t, j = partner[k];
+        const double dx = x[j] - xi, dy = y[j] - yi, dz = z[j] - zi;
+        const double x0 = length0[k], v_j = volume[j];
+        const double e = std::sqrt(dx * dx + dy * dy + dz * dz) - x0;
+        const double a = x0 * inv_horizon;
+        const double J = std::max(1.0 - a, 0.0);  // lps_influence(a) for a >= 0, without a branch
+        // Near s_0 when e >= 0.999 s_0 x0 (a multiplication, not the division of the stretch; rounded, e below
+        // it still means e / x0 < s_0 for certain): the factor is 2 then, else 0 (copysign, not a comparison,
+        // which the compiler would turn into a branch).
+        const double probe = e + both * (std::fabs(e) - e);  // e, or |e| when compression breaks bonds too
+        near[t] = keep[t] * may_break * (1.0 + std::copysign(1.0, probe - near_s0 * x0));
+        extension[t] = e;
+        term[t] = keep[t] * lps_dilatation_term(J, x0, e, v_j);
+      }
+      if (sum4(near, count) > 0.0) {
+        // Eq 11 exactly, lps_bond_breaks(lps_stretch(|y|, x0), s0): e / x0 is the stretch, the same bits
+        // from either end of the bond, so both ends decide alike. Broken now: h = 0 in this step's theta.
+        for (int t = 0; t < count; ++t)
+          if (near[t] > 0.0 && lps_bond_breaks(extension[t] / length0[k0 + t], s0, in_compression)) {
+            broken[k0 + t] = 1;
+            term[t] = 0.0;
+            ++marked;
+          }
+      }
+      sum += sum4(term, count);
+    }
+    const double theta_i = lps_dilatation(c, sum, m[i]);
+    if (do_theta) theta[i] = theta_i;
+    if (do_factors) {
+      const LpsNodeFactors f = lps_node_factors(c, theta_i, m[i]);
+      factors[2 * i] = f.p;
+      factors[2 * i + 1] = f.q;
+    }
+  }
+  return marked;
+}
+
+// Rows [r0, r1): f_i += V_i F_i, F_i of eq 33 over the intact bonds, from the node factors.
+DEBRIS_PD_ROW_CLONES void bond_force_rows(const RowInputs& in, int r0, int r1) {
+  const int* __restrict offset = in.offset;
+  const int* __restrict partner = in.partner;
+  const double* __restrict length0 = in.length0;
+  const unsigned char* __restrict broken = in.broken;
+  const double* __restrict x = in.x, * __restrict y = in.y, * __restrict z = in.z;
+  const double* __restrict volume = in.volume;
+  const double* __restrict factors = in.factors;
+  double* __restrict fx = in.fx, * __restrict fy = in.fy, * __restrict fz = in.fz;
+  const int entries = in.entries;
+  double ux[kStage], uy[kStage], uz[kStage], keep[kStage];
+  for (int i = r0; i < r1; ++i) {
+    const int begin = offset[i], end = offset[i + 1];
+    if (begin == end) continue;
+    const double inv_horizon = 1.0 / in.lps[in.material[in.grain[i]]].horizon;
+    const double xi = x[i], yi = y[i], zi = z[i];
+    const double p_i = factors[2 * i], q_i = factors[2 * i + 1];
+    double Fx = 0.0, Fy = 0.0, Fz = 0.0;
+    for (int k0 = begin; k0 < end; k0 += kStage) {
+      const int count = end - k0 < kStage ? end - k0 : kStage;
+      intact_factors(broken, k0, count, keep);
+      const int lanes = padded_count(k0, count, entries);
+      // As in break_and_dilate_rows. (A factor 0 times a non-finite term is NaN, not 0: only positions that
+      // blew up do that.)
+      DEBRIS_SIMD
+      for (int t = 0; t < lanes; ++t) {
+        const int k = k0 + t, j = partner[k];
+        const double dx = x[j] - xi, dy = y[j] - yi, dz = z[j] - zi;
+        const double x0 = length0[k], v_j = volume[j], p_j = factors[2 * j], q_j = factors[2 * j + 1];
+        const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
+        // 1 / |y|, or 0 when |y| is 0 (no direction), as arithmetic: a division under a branch may trap.
+        const double has_length = static_cast<double>(length > 0.0);
+        const double inv_length = has_length / (length + (1.0 - has_length));
+        const double a = x0 * inv_horizon;
+        const double J = std::max(1.0 - a, 0.0);  // lps_influence(a) for a >= 0, without a branch
+        const double s =
+            keep[t] * lps_bond_force_scale(J, x0, length - x0, v_j, p_i + p_j, q_i + q_j, inv_length);  // eq 12
+        ux[t] = s * dx;
+        uy[t] = s * dy;
+        uz[t] = s * dz;
+      }
+      Fx += sum4(ux, count);
+      Fy += sum4(uy, count);
+      Fz += sum4(uz, count);
+    }
+    // Eq 33 is a force density; the node carries V_i of it.
+    fx[i] += volume[i] * Fx;
+    fy[i] += volume[i] * Fy;
+    fz[i] += volume[i] * Fz;
+  }
+}
+
+DEBRIS_END_DECLARE_TARGET
+
+// Everything the row kernels read; the outputs (theta, force) only from a mutable PdNodes (with_outputs).
+RowInputs row_inputs(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
+                     const PdNodes& nodes) {
+  const BondView b = view(lps, grains, bonds, nodes);
+  bonds.node_factors.resize(2 * nodes.size());
+  RowInputs in{};
+  in.offset = b.offset;
+  in.partner = b.partner;
+  in.length0 = b.length0;
+  in.grain = b.grain;
+  in.material = b.material;
+  in.lps = b.lps;
+  in.x = nodes.x.data();
+  in.y = nodes.y.data();
+  in.z = nodes.z.data();
+  in.volume = nodes.volume.data();
+  in.m = nodes.weighted_volume.data();
+  in.factors = bonds.node_factors.data();
+  in.n = b.n;
+  in.entries = static_cast<int>(bonds.entries());
+  in.blocks = row_blocks(b.n, in.entries);
+  return in;
+}
+
+RowInputs row_inputs_with_outputs(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
+                                  PdNodes& nodes) {
+  RowInputs in = row_inputs(lps, grains, bonds, nodes);
+  in.theta = nodes.theta.data();
+  in.fx = nodes.fx.data();
+  in.fy = nodes.fy.data();
+  in.fz = nodes.fz.data();
+  return in;
+}
+
+// The kernels' loops over row blocks. Every pointer is copied into a local and RowInputs is rebuilt inside
+// the loop: an offload build maps each local pointer to its device copy, which it does not do for pointers
+// inside a struct.
+#define DEBRIS_PD_ROW_LOCALS(h)                                                                  \
+  const int *offset = h.offset, *partner = h.partner, *grain = h.grain, *material = h.material;  \
+  const double *length0 = h.length0, *x = h.x, *y = h.y, *z = h.z, *volume = h.volume, *m = h.m; \
+  const PdLpsConstants* lps = h.lps;                                                             \
+  unsigned char* broken = h.broken;                                                              \
+  double *theta = h.theta, *factors = h.factors, *fx = h.fx, *fy = h.fy, *fz = h.fz;             \
+  const int n = h.n, blocks = h.blocks, entries = h.entries;                                     \
+  const int do_break = h.do_break, do_theta = h.do_theta, do_factors = h.do_factors
+#define DEBRIS_PD_ROW_INPUTS                                                                                           \
+  RowInputs {                                                                                                          \
+    offset, partner, length0, broken, grain, material, lps, x, y, z, volume, m, theta, factors, fx, fy, fz, n, blocks, \
+        entries, do_break, do_theta, do_factors                                                                        \
+  }
+
+long run_break_and_dilate(const RowInputs& host) {
+  DEBRIS_PD_ROW_LOCALS(host);
+  DEBRIS_RESIDENT(offset, partner, grain, material, length0, x, y, z, volume, m, lps, broken, theta, factors);
+  long marked = 0;
+  DEBRIS_KERNEL_SUM(marked)
+  for (int b = 0; b < blocks; ++b) {
+    const RowInputs in = DEBRIS_PD_ROW_INPUTS;
+    marked += break_and_dilate_rows(in, block_row(offset, n, blocks, b), block_row(offset, n, blocks, b + 1));
+  }
+  return marked;
+}
+
+void run_bond_force(const RowInputs& host) {
+  DEBRIS_PD_ROW_LOCALS(host);
+  DEBRIS_RESIDENT(offset, partner, grain, material, length0, x, y, z, volume, lps, broken, factors, fx, fy, fz);
+  DEBRIS_KERNEL
+  for (int b = 0; b < blocks; ++b) {
+    const RowInputs in = DEBRIS_PD_ROW_INPUTS;
+    bond_force_rows(in, block_row(offset, n, blocks, b), block_row(offset, n, blocks, b + 1));
+  }
+}
+
+#undef DEBRIS_PD_ROW_LOCALS
+#undef DEBRIS_PD_ROW_INPUTS
+
+}  // namespace
+
+long pd_break_bonds_pass(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds,
+                         const PdNodes& nodes) {
+  RowInputs in = row_inputs(lps, grains, bonds, nodes);
+  in.broken = bonds.broken.data();
+  in.do_break = 1;
+  return run_break_and_dilate(in) / 2;  // both ends broke: one bond, two entries
+}
+
+void pd_dilatation_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
+                        PdNodes& nodes) {
+  RowInputs in = row_inputs_with_outputs(lps, grains, bonds, nodes);
+  in.broken = const_cast<unsigned char*>(bonds.broken.data());  // read only: do_break = 0
+  in.do_theta = 1;
+  run_break_and_dilate(in);
+}
+
+void pd_bond_force_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
+                        PdNodes& nodes) {
+  RowInputs in = row_inputs_with_outputs(lps, grains, bonds, nodes);
+  in.broken = const_cast<unsigned char*>(bonds.broken.data());  // read only
+  // The node factors from the theta column (whoever computed it).
+  const int n = in.n;
+  const int* __restrict offset = in.offset;
+  const int* __restrict grain = in.grain, * __restrict material = in.material;
+  const PdLpsConstants* __restrict table = in.lps;
+  const double* __restrict theta = in.theta, * __restrict m = in.m;
+  double* __restrict factors = in.factors;
+  DEBRIS_RESIDENT(offset, grain, material, table, theta, m, factors);
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    const LpsNodeFactors f =
+        offset[i] == offset[i + 1] ? LpsNodeFactors{} : lps_node_factors(table[material[grain[i]]], theta[i], m[i]);
+    factors[2 * i] = f.p;
+    factors[2 * i + 1] = f.q;
+  }
+  run_bond_force(in);
+}
+
+long pd_bond_step(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds, PdNodes& nodes) {
+  // Break, dilatation and node factors in one pass over the bonds (row i breaks its own entries before it
+  // sums them, which is what the separate passes do), then the force.
+  RowInputs in = row_inputs_with_outputs(lps, grains, bonds, nodes);
+  in.broken = bonds.broken.data();
+  in.do_break = in.do_theta = in.do_factors = 1;
+  const long broke = run_break_and_dilate(in) / 2;
+  run_bond_force(in);
+  return broke;
+}
+
+void pd_damage_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
+                    PdNodes& nodes, double* broken_fraction) {
+  const BondView b = view(lps, grains, bonds, nodes);
+  const int n = b.n;
+  const int* __restrict offset = b.offset, * __restrict partner = b.partner;
+  const int* __restrict grain = b.grain, * __restrict material = b.material;
+  const double* __restrict length0 = b.length0;
+  const PdLpsConstants* __restrict table = b.lps;
+  const unsigned char* __restrict broken = bonds.broken.data();
+  const double* __restrict x = nodes.x.data(), * __restrict y = nodes.y.data(), * __restrict z = nodes.z.data();
+  double* __restrict damage = nodes.damage.data();
+  double* __restrict fraction = broken_fraction;
+  DEBRIS_RESIDENT(offset, partner, grain, material, length0, table, broken, x, y, z, damage, fraction);
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    double z_max = 0.0;
+    int n_broken = 0;
+    if (offset[i] < offset[i + 1]) {
+      const double s0 = table[material[grain[i]]].critical_stretch;
+      const Vec3 yi{x[i], y[i], z[i]};
+      for (int k = offset[i]; k < offset[i + 1]; ++k) {
+        const int j = partner[k];
+        const double s = std::fabs(lps_stretch(norm(Vec3{x[j], y[j], z[j]} - yi), length0[k]));
+        z_max = s > z_max ? s : z_max;
+        n_broken += broken[k];
+      }
+      z_max /= s0;  // 0 when s_0 is infinite
+    }
+    damage[i] = z_max;
+    if (fraction) {
+      const int count = offset[i + 1] - offset[i];
+      fraction[i] = count > 0 ? static_cast<double>(n_broken) / count : 0.0;
+    }
+  }
+}
+
+namespace {
+
+DEBRIS_DECLARE_TARGET
+// W_i of the LPS (pd_material.hpp), from the theta column.
+inline double node_energy_density(int i, const int* offset, const int* partner, const double* length0,
+                                  const unsigned char* broken, const PdLpsConstants& c, const double* x,
+                                  const double* y, const double* z, const double* volume, const double* m,
+                                  const double* theta) {
+  const Vec3 yi{x[i], y[i], z[i]};
+  const double theta_i = theta[i];
+  double w = lps_dilatation_energy(c, theta_i), m_intact = 0.0;
+  for (int k = offset[i]; k < offset[i + 1]; ++k) {
+    if (broken[k]) continue;
+    const int j = partner[k];
+    const double x0 = length0[k], J = lps_influence(x0 / c.horizon);
+    const double e = norm(Vec3{x[j], y[j], z[j]} - yi) - x0;
+    w += lps_deviatoric_energy_term(c, J, x0, e, theta_i, m[i], volume[j]);
+    m_intact += lps_weighted_volume_term(J, x0, volume[j]);
+  }
+  return w + lps_broken_bond_energy(c, theta_i, m[i], m_intact);
+}
+DEBRIS_END_DECLARE_TARGET
+
+}  // namespace
+
+void pd_energy_density_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
+                            const PdNodes& nodes, double* energy_density) {
+  const BondView b = view(lps, grains, bonds, nodes);
+  const int n = b.n;
+  const int *offset = b.offset, *partner = b.partner, *grain = b.grain, *material = b.material;
+  const double* length0 = b.length0;
+  const PdLpsConstants* table = b.lps;
+  const unsigned char* broken = bonds.broken.data();
+  const double *x = nodes.x.data(), *y = nodes.y.data(), *z = nodes.z.data();
+  const double *volume = nodes.volume.data(), *m = nodes.weighted_volume.data(), *theta = nodes.theta.data();
+  double* __restrict out = energy_density;
+  DEBRIS_RESIDENT(offset, partner, grain, material, length0, table, broken, x, y, z, volume, m, theta, out);
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    out[i] = offset[i] == offset[i + 1] ? 0.0
+                                        : node_energy_density(i, offset, partner, length0, broken,
+                                                              table[material[grain[i]]], x, y, z, volume, m, theta);
+  }
+}
+
+double pd_elastic_energy(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
+                         const PdNodes& nodes) {
+  const BondView b = view(lps, grains, bonds, nodes);
+  const int n = b.n;
+  const int *offset = b.offset, *partner = b.partner, *grain = b.grain, *material = b.material;
+  const double* length0 = b.length0;
+  const PdLpsConstants* table = b.lps;
+  const unsigned char* broken = bonds.broken.data();
+  const double *x = nodes.x.data(), *y = nodes.y.data(), *z = nodes.z.data();
+  const double *volume = nodes.volume.data(), *m = nodes.weighted_volume.data(), *theta = nodes.theta.data();
+  // Fixed-order blocks of nodes (core/block_sums.hpp): the same bits on any thread count.
+  const int blocks = sum_blocks(n);
+  BlockPartials partials;
+  double* part = partials.reserve(static_cast<std::size_t>(blocks));
+  DEBRIS_RESIDENT(offset, partner, grain, material, length0, table, broken, x, y, z, volume, m, theta, part);
+  DEBRIS_KERNEL
+  for (int b = 0; b < blocks; ++b) {
+    double energy = 0.0;
+    const BlockRange r = block_range(b, n);
+    for (int i = r.begin; i < r.end; ++i) {
+      if (offset[i] == offset[i + 1]) continue;
+      energy += volume[i] * node_energy_density(i, offset, partner, length0, broken, table[material[grain[i]]], x, y,
+                                                z, volume, m, theta);
+    }
+    part[b] = energy;
+  }
+  partials.to_host(static_cast<std::size_t>(blocks));
+  return partials.add_up<1>(blocks)[0];
+}
+
+}  // namespace debris

@@ -1,0 +1,82 @@
+#pragma once
+// The peridynamic bond passes of paper B (sections 2.1.1 and 3.1): kernels/peridem/lps_bond_force.hpp over the
+// bond list. The bond list stores every bond from both ends, so each pass writes only to the row's own node
+// (and the row's own entries), with no atomics: the results are bitwise the same for any thread count.
+// The force needs theta at both ends of every bond, so dilatation and force are separate passes. One step:
+//
+//   pd_break_bonds_pass    h of eq 11 from the current stretch; returns the bonds broken now
+//   pd_dilatation_pass     theta_i of eqs 13/34 over the intact bonds
+//   pd_bond_force_pass     f_i += V_i F_i, F_i of eq 33 (force density; PdNodes stores newtons)
+//
+// pd_bond_step does the same in two sweeps over the bonds: break + dilatation (row i breaks its own entries,
+// then sums the intact ones: what the separate passes give, bit for bit), then the force.
+// pd_weighted_volume_pass runs once, in the reference state.
+//
+// How they run (kernels/peridem/pd_bond_passes.cpp): rows are handed to the threads in blocks of equal bond entries;
+// within a row, a vector loop computes every entry's term into a small local array and a scalar loop sums
+// them in entry order, so the bits depend neither on the thread count nor on the vector width chosen at
+// run time (the host build also has an AVX2 + FMA version; FMA may change the last bits from one machine to
+// another). The force uses t_i<xi> = J (P_i x + Q_i e) with per-node factors P, Q (lps_node_factors, kept in
+// BondList::node_factors): one division per entry (1 / |y|) where eqs 7 and 33 written out take four.
+//
+// Per-node constants: node i belongs to grain nodes.grain[i], whose material is grains.material[g], an
+// index into `lps` (PdLpsConstants::from of the scenario's material table). Wall nodes have no bonds and
+// get m = theta = 0, no force and no damage.
+//
+// Offload builds: the passes read and write the device copies only. The node and grain columns, the bond
+// list (node_factors is sized here, entered by its allocator) and the `lps` table are device-resident
+// (exec::DeviceVector) and must be current there (to_device after a host-side change); `broken`, theta,
+// damage and the forces are current on the host after to_host. Output pointers (broken_fraction,
+// energy_density) must point into device-resident arrays too.
+#include <vector>
+
+#include "kernels/peridem/pd_material.hpp"
+
+namespace debris {
+
+class PdNodes;
+struct PdGrains;
+class BondList;
+
+/// m_i of eq 34 over all bonds of i (broken or not: m is a property of the reference configuration).
+/// Throws InputError if a particle grain's material index is outside `lps`.
+void pd_weighted_volume_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
+                             PdNodes& nodes);
+
+/// Eq 11: marks as broken, for ever, every intact bond whose current stretch is >= s_0. Both ends of a bond
+/// compute bitwise the same stretch, so they always agree. Returns the number of bonds (not entries) that
+/// broke in this call: the runner rebuilds the contact list when it is > 0 (broken bonds contact).
+long pd_break_bonds_pass(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds,
+                         const PdNodes& nodes);
+
+/// theta_i of eqs 13/34 from the current positions over the intact bonds (h = 0 for broken ones).
+void pd_dilatation_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
+                        PdNodes& nodes);
+
+/// Adds V_i F_i (eq 33 over the intact bonds) to the node force. Needs theta of every node (this step).
+void pd_bond_force_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
+                        PdNodes& nodes);
+
+/// Breaks bonds, then computes theta and adds the bond forces. Returns the bonds broken in this step.
+long pd_bond_step(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds, PdNodes& nodes);
+
+/// Damage Z_i (eq 14) into nodes.damage: the largest |s| / s_0 over all bonds of i, broken or not.
+/// Eq 14 writes |u_j - u_i| / |x_j - x_i|, which a rigid rotation makes nonzero (a grain turned by 90 degrees
+/// would read Z = 1.4 / s_0 everywhere); the authors' code (PeriDEM, DEMModel::computePeridynamicForces)
+/// measures |stretch| / s_0 instead, which is what the paper's damage plots show, and so do we.
+/// Optionally, `broken_fraction` (size nodes.size(), or null) receives the fraction of i's bonds that are
+/// broken (0 for nodes without bonds): the usual peridynamic damage, a second diagnostic.
+void pd_damage_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
+                    PdNodes& nodes, double* broken_fraction = nullptr);
+
+/// LPS energy density W_i (header of pd_material.hpp) of every node into `energy_density` (size nodes.size()),
+/// from the current positions and the theta column (run pd_dilatation_pass first).
+void pd_energy_density_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
+                            const PdNodes& nodes, double* energy_density);
+
+/// Elastic energy of the grains, sum_i V_i W_i (J; J/m in 2D), from the theta column (run
+/// pd_dilatation_pass first). Its gradient is minus the force of pd_bond_force_pass for fixed bond states.
+double pd_elastic_energy(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
+                         const PdNodes& nodes);
+
+}  // namespace debris

@@ -1,0 +1,308 @@
+#include "scenarios/common/dem/dem_simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/error.hpp"
+#include "core/exec.hpp"
+#include "core/pass_timer.hpp"
+#include "core/thread_tuner.hpp"
+#include "kernels/dem/integrate.hpp"
+#include "kernels/dem/virial_stress.hpp"
+
+namespace debris {
+
+DemSimulation::DemSimulation(Box box, Particles particles, Groups groups, DemSettings settings)
+    : box_(std::move(box)), p_(std::move(particles)), groups_(std::move(groups)), settings_(std::move(settings)) {
+  setup();
+}
+
+void DemSimulation::setup() {
+  coef_ = CohesiveCoefficients::from(settings_.material);
+  pass_ = settings_.pair_pass != PairPass::automatic ? settings_.pair_pass
+          : exec::offload_build()                    ? PairPass::full
+                                                     : PairPass::half;
+  if (p_.size() == 0) throw input_error("particles", "none", "the system has no particle");
+  p_.check_ids();
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    const double r = p_.radius[i];
+    if (!(r > 0.0) || !std::isfinite(r))
+      throw input_error("particles.radius", format_value(r), "radius of particle id " + std::to_string(p_.id[i]) + " must be > 0");
+    for (double c : {p_.x[i], p_.y[i], p_.z[i]})
+      if (!std::isfinite(c))
+        throw input_error("particles.position", format_value(c), "particle id " + std::to_string(p_.id[i]) + " has a non-finite coordinate");
+  }
+  if (settings_.masses_from_density) p_.set_mass_from_density(settings_.material.density);
+  groups_.refresh_members(p_);
+  // Members of frozen and rigid groups start with their group's motion, not with whatever the input said.
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    const int g = p_.group[i];
+    if (g < 0 || groups_.list[static_cast<std::size_t>(g)].motion == GroupMotion::free) continue;
+    const Vec3 v = groups_.list[static_cast<std::size_t>(g)].velocity;
+    const bool frozen = groups_.list[static_cast<std::size_t>(g)].motion == GroupMotion::frozen;
+    p_.vx[i] = frozen ? 0.0 : v.x;
+    p_.vy[i] = frozen ? 0.0 : v.y;
+    p_.vz[i] = frozen ? 0.0 : v.z;
+    p_.wx[i] = p_.wy[i] = p_.wz[i] = 0.0;
+  }
+
+  // Time step against eq 6, damping against eq 21, both for the most restrictive particle.
+  limits_ = stability_limits(coef_, p_);
+  if (settings_.time_step > 0.0) {
+    dt_ = settings_.time_step;
+  } else {
+    if (!(settings_.time_step_fraction > 0.0))
+      throw input_error("run.time_step_fraction", format_value(settings_.time_step_fraction), "must be > 0");
+    dt_ = settings_.time_step_fraction * limits_.dt_c;
+  }
+  if (!std::isfinite(dt_) || dt_ <= 0.0) throw input_error("run.time_step", format_value(dt_), "must be > 0");
+  if (dt_ > limits_.dt_c && !settings_.allow_unstable_time_step)
+    throw input_error("run.time_step", format_value(dt_),
+                      "exceeds the critical time step dt_c = " + format_value(limits_.dt_c) +
+                          " of eq 6 (semi-implicit Euler diverges above it); use a fraction of dt_c, or set "
+                          "run.allow_unstable_time_step: true to insist");
+  set_global_damping(settings_.global_damping);
+
+  // Neighbour cutoff: delta_f grows with r_i + r_j, so the largest pair bounds it.
+  const double r_max = *std::max_element(p_.radius.begin(), p_.radius.end());
+  max_cutoff_ = CohesiveCutoff{coef_}(r_max, r_max);
+  const double r_min = *std::min_element(p_.radius.begin(), p_.radius.end());
+  // Default skin. Narrow size distributions (one size class of the neighbour search, r_max < 2 r_min)
+  // keep 0.2 r_min: a larger skin there adds the second shell of a close-packed solid to the list. Wide
+  // ones take 0.25 r_mean: the smallest radius says little about their typical pair. Measured on the wear
+  // junction's silica (size ratio 6.6, r_min = 0.56 nm, r_mean = 1.23 nm, 25 m/s vibration, settled;
+  // BM_StepPolydisperse, 1 thread, M particle-steps/s): 0.2 r_min = 0.11 nm rebuilt every 44 steps (38% of
+  // the run, 7.5 M); 0.15 nm every 70 (8.7 M); 0.2 nm every 96 (9.5 M); 0.25-0.6 nm every 170-590 (10.0-10.2 M:
+  // more list entries offset fewer rebuilds). 0.25 r_mean = 0.31 nm sits at the low end of that plateau.
+  double r_sum = 0.0;
+  for (double r : p_.radius) r_sum += r;
+  const double r_mean = r_sum / static_cast<double>(p_.size());
+  const bool wide = SizeClasses::of(p_.radius.data(), static_cast<int>(p_.size()), SizeClasses::kMax).count > 1;
+  skin_ = settings_.skin > 0.0 ? settings_.skin : wide ? 0.25 * r_mean : 0.2 * r_min;
+  if (settings_.skin < 0.0) throw input_error("run.skin", format_value(settings_.skin), "must be >= 0");
+  list_.set_max_size_classes(settings_.size_classes);
+
+  rebuild_neighbors();
+  refuse_coincident_particles();
+  compute_forces(0);
+}
+
+void DemSimulation::refuse_coincident_particles() const {
+  // Two particles at one place (a repeated row of a data file) have no direction between them: eq 2's
+  // normal is 0 / 0. Found among the listed pairs (every pair closer than the cutoff is listed).
+  particles_to_host();
+  pairs_to_host();
+  const BoxView b = box_.view();
+  for (int i = 0; i < list_.rows(); ++i)
+    for (int k = list_.offset()[i]; k < list_.offset()[i + 1]; ++k) {
+      const std::size_t a = static_cast<std::size_t>(i), c = static_cast<std::size_t>(list_.index()[k]);
+      const Vec3 d = minimum_image(b, Vec3{p_.x[a] - p_.x[c], p_.y[a] - p_.y[c], p_.z[a] - p_.z[c]});
+      if (norm(d) > 1e-6 * std::min(p_.radius[a], p_.radius[c])) continue;
+      throw input_error("particles", "particles id " + std::to_string(p_.id[a]) + " and id " + std::to_string(p_.id[c]),
+                        "both sit at (" + format_value(p_.x[a]) + ", " + format_value(p_.y[a]) + ", " +
+                            format_value(p_.z[a]) + "): a repeated particle (a duplicated row of the data file?)");
+    }
+}
+
+void DemSimulation::check_global_damping(double fraction, const std::string& key) const {
+  if (!(fraction >= 0.0) || !std::isfinite(fraction))
+    throw input_error(key, format_value(fraction), "must be a fraction >= 0 of the critical damping c_c (eq 21)");
+  if (fraction == 0.0) return;
+  particles_to_host();  // the masses
+  const double m_min = *std::min_element(p_.mass.begin(), p_.mass.end());
+  const double bound = m_min / (limits_.c_c * dt_);
+  if (!(fraction < bound))
+    throw input_error(key, format_value(fraction),
+                      "must stay below " + format_value(bound) + " c_c: the damping -c v then takes less than a "
+                      "particle's whole velocity in one step (c_c dt / m_min = " + format_value(1.0 / bound) +
+                      ", time step " + format_value(dt_) + "; the paper's relaxations use 0.1-0.2 c_c)");
+}
+
+void DemSimulation::set_global_damping(double fraction) {
+  check_global_damping(fraction, "run.global_damping");
+  settings_.global_damping = fraction;
+  damping_ = fraction * limits_.c_c;
+}
+
+void DemSimulation::set_options(const CohesiveOptions& options) { settings_.options = options; }
+
+void DemSimulation::rebuild_neighbors() { rebuild(nullptr); }
+
+void DemSimulation::reorder(const std::vector<int>& order) {
+  if (order.size() != p_.size()) throw std::invalid_argument("reorder: order has the wrong size");
+  rebuild(&order);
+}
+
+void DemSimulation::rebuild(const std::vector<int>* order) {
+  const PassTimer timer(times_.neighbours);
+  particles_to_device();
+  // Offload builds: wrap, re-sort (a gather per column), neighbour search and history carry-over run on the
+  // device; the cell counting sorts and the row prefix sum run on the host (n ints each way).
+  if (list_.rows() > 0) history_.remember(p_, list_);
+  box_.wrap_resident(p_);
+  if (order) {
+    p_.permute_resident(*order);
+  } else if (settings_.sort_by_cell) {
+    sorter_.build(box_.view(), p_.x.data(), p_.y.data(), p_.z.data(), static_cast<int>(p_.size()),
+                  max_cutoff_ + skin_);
+    p_.permute_resident(sorter_.sort_order());
+  }
+  list_.build(box_.view(), p_, CohesiveCutoff{coef_}, max_cutoff_, skin_,
+               pass_ == PairPass::half ? NeighborKind::half : NeighborKind::full);
+  history_.carry_over(p_, list_);
+  device_changed(particles_and_pairs_changed);
+  if (pass_ == PairPass::half) index_half_pass();
+  ++times_.rebuilds;
+}
+
+void DemSimulation::index_half_pass() {
+  // The half-list pass runs on host threads only: in offload builds its tables come back to the host.
+  table_.build(coef_, p_, list_);
+  exec::to_host(table_.delta_f);
+  exec::to_host(table_.c_n);
+  pairs_to_host();
+  scratch_.index(list_);
+}
+
+void DemSimulation::compute_forces(int update_history) {
+  {
+    const PassTimer timer(times_.contact);  // eqs 2-5 over the neighbour list
+    particles_to_device();
+    if (pass_ == PairPass::half) {  // sets the forces (zeroes them itself)
+      // Host threads. In offload builds (where the half pass is chosen only on request, for tests) the state
+      // makes a round trip around it.
+      device_changed(particles_changed);
+      particles_to_host();
+      pairs_to_host();
+      cohesive_contact_pass_half(table_, settings_.options, box_.view(), p_, list_, history_, dt_, update_history,
+                                 scratch_);
+      if constexpr (exec::offload_build()) {
+        to_device(p_);
+        history_.to_device();
+      }
+    } else {
+      zero_forces(p_);
+      cohesive_contact_pass(coef_, settings_.options, box_.view(), p_, list_, history_, dt_, update_history);
+    }
+    device_changed(update_history != 0 ? particles_and_pairs_changed : particles_changed);
+  }
+  const PassTimer timer(times_.other);
+  groups_.measure_reactions(p_);
+  global_damping_pass(p_, groups_.view(), damping_);
+}
+
+void DemSimulation::recompute_forces() {
+  particles_to_device();
+  if (pass_ == PairPass::half) index_half_pass();
+  compute_forces(0);
+}
+
+double DemSimulation::bytes_per_particle() const {
+  const double n = static_cast<double>(p_.size());
+  return static_cast<double>(Particles::bytes_per_particle()) +
+         static_cast<double>(list_.bytes() + history_.bytes() + table_.bytes() + scratch_.bytes()) / n;
+}
+
+void DemSimulation::step() {
+  const exec::TunedStep tuned;  // times the step for the thread tuner, when the count is tuned
+  {
+    const PassTimer timer(times_.integration);  // eq 1: kick the rigid groups and the particles, drift
+    particles_to_device();
+    kick_rigid_groups(groups_, dt_);
+    integrate_semi_implicit_euler(p_, groups_.view(), dt_);
+    device_changed(particles_changed);
+    groups_.accumulate_displacements(p_, dt_);
+    ++step_;
+    time_ += dt_;
+  }
+  bool rebuild = false;
+  {
+    const PassTimer timer(times_.neighbours);
+    rebuild = list_.needs_rebuild(box_.view(), p_);
+  }
+  if (rebuild) rebuild_neighbors();  // drifted past skin / 2
+  compute_forces(1);                 // contact (eqs 2-5), group reactions, global damping
+}
+
+void DemSimulation::run(long steps) {
+  for (long s = 0; s < steps; ++s) step();
+}
+
+CohesiveDiagnostics DemSimulation::diagnostics() const {
+  particles_to_device();
+  return cohesive_diagnostics(coef_, settings_.options, box_.view(), p_, list_, history_);
+}
+
+StressTensor DemSimulation::virial_stress(const int* select, double volume, bool kinetic) const {
+  particles_to_device();
+  return debris::virial_stress(coef_, settings_.options, box_.view(), p_, list_, history_, select, volume, kinetic);
+}
+
+std::string DemSimulation::health_check(double overlap_limit) const {
+  return health_check(diagnostics(), overlap_limit);
+}
+
+std::string DemSimulation::health_check(const CohesiveDiagnostics& diag, double overlap_limit) const {
+  particles_to_device();
+  const long bad = first_non_finite(p_);
+  if (bad >= 0) {
+    particles_to_host();
+    const std::size_t b = static_cast<std::size_t>(bad);
+    std::ostringstream os;
+    os << "non-finite state at step " << step_ << " on particle id " << p_.id[b] << " (x = " << p_.x[b]
+       << ", v = " << p_.vx[b] << ", f = " << p_.fx[b] << ")"
+       << (step_ == 0 ? ": the set-up itself is not finite" : "; is the time step stable?");
+    return os.str();
+  }
+  particles_to_host();  // the radii (a re-sort leaves the host's copies stale)
+  const double r_min = *std::min_element(p_.radius.begin(), p_.radius.end());
+  if (diag.max_overlap <= overlap_limit * r_min) return {};
+  // Rare: find the pair by a plain scan, on the host.
+  particles_to_host();
+  pairs_to_host();
+  const BoxView b = box_.view();
+  for (int i = 0; i < list_.rows(); ++i) {
+    for (int k = list_.offset()[i]; k < list_.offset()[i + 1]; ++k) {
+      const std::size_t a = static_cast<std::size_t>(i), c = static_cast<std::size_t>(list_.index()[k]);
+      const Vec3 d = minimum_image(b, Vec3{p_.x[a] - p_.x[c], p_.y[a] - p_.y[c], p_.z[a] - p_.z[c]});
+      const double overlap = p_.radius[a] + p_.radius[c] - norm(d);
+      if (overlap > overlap_limit * std::min(p_.radius[a], p_.radius[c])) {
+        std::ostringstream os;
+        os << (step_ == 0 ? "too deep an overlap" : "exploding overlap") << " at step " << step_ << ": particles id " << p_.id[a] << " and id " << p_.id[c]
+           << " overlap by " << overlap << " (radii " << p_.radius[a] << ", " << p_.radius[c] << ")"
+           << (step_ == 0 ? ", deeper than run.overlap_limit (" + format_value(overlap_limit) +
+                                " smallest radii) as placed: place them farther apart, or raise the limit (auto: the "
+                                "deepest initial overlap + 1)"
+                          : "; is the time step stable, or the load too large?");
+        return os.str();
+      }
+    }
+  }
+  return {};
+}
+
+std::string DemSimulation::summary() const {
+  // limits_.particle indexes the storage order at set-up; particles have been sorted by cell since.
+  particles_to_host();
+  const std::size_t i = static_cast<std::size_t>(stability_limits(coef_, p_).particle);
+  const CohesivePairParams pp = cohesive_pair_params(coef_, p_.radius[i], p_.radius[i], p_.mass[i], p_.mass[i]);
+  std::ostringstream os;
+  os << std::setprecision(6);
+  os << "particles " << p_.size() << ", groups " << groups_.size() << "\n"
+     << "material: d_min = " << settings_.material.minimum_diameter()
+     << " (eq 19), d_c = " << settings_.material.critical_diameter() << " (eq 18)\n"
+     << "smallest pair (d = " << 2 * p_.radius[i] << "): k_N = " << pp.k_n << ", k_T = " << pp.k_t
+     << ", delta_e = " << pp.delta_e << ", delta_f = " << pp.delta_f << ", F_mT = " << pp.f_max_t
+     << ", c_N = " << pp.c_n << ", c_T = " << pp.c_t << "\n"
+     << "critical time step dt_c = " << limits_.dt_c << " (eq 6), dt = " << dt_ << " = " << dt_ / limits_.dt_c
+     << " dt_c\n"
+     << "critical damping c_c = " << limits_.c_c << " (eq 21), global damping c = " << damping_ << " = "
+     << settings_.global_damping << " c_c\n"
+     << "neighbour cutoff <= " << max_cutoff_ << " + skin " << skin_;
+  return os.str();
+}
+
+}  // namespace debris

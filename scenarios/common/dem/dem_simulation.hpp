@@ -1,0 +1,226 @@
+#pragma once
+// The cohesive DEM step loop, assembled once from the passes of kernels/ (shared/DESIGN.md):
+//
+//   kick rigid groups -> integrate (eq 1) -> neighbours if needed (wrap, sort by cell, rebuild, carry the
+//   contact history) -> zero forces -> cohesive contact (eqs 2-5) -> group reactions -> global damping
+//
+// Forces at step n use x_n and v_n, so the semi-implicit Euler of eq 1 is v_{n+1} = v_n + F_n/m dt,
+// x_{n+1} = x_n + v_{n+1} dt.
+//
+// Device residency (offload builds; none of it exists in host builds): particles, neighbour list, contact
+// history, group views and pair tables live on the device from setup() to destruction. The host copies are
+// refreshed only where the host reads them: the accessors particles(), neighbors() and history() bring
+// back what a step changed (to_host), once per change; the non-const particles() also marks the host copy
+// as edited, so the next step, rebuild or force evaluation sends it to the device first (to_device).
+// Checkpoints, health-check messages and summary() go through the same two points.
+#include <chrono>
+#include <functional>
+#include <string>
+
+#include "core/box.hpp"
+#include "core/contact_history.hpp"
+#include "core/exec.hpp"
+#include "core/cell_list.hpp"
+#include "core/groups.hpp"
+#include "core/neighbor_list.hpp"
+#include "core/particles.hpp"
+#include "kernels/dem/cohesive_contact.hpp"
+#include "kernels/dem/cohesive_contact_half.hpp"
+#include "kernels/dem/cohesive_pair_table.hpp"
+#include "kernels/dem/cohesive_material.hpp"
+#include "kernels/dem/virial_stress.hpp"
+
+namespace debris {
+
+namespace h5 {
+class File;
+}
+
+/// Which contact pass runs: the half-list host pass (each pair once, vectorised), or the
+/// full-list pass (each pair from both ends, no scatter: the GPU path and the reference).
+enum class PairPass { automatic, full, half };
+
+struct DemSettings {
+  CohesiveMaterial material;
+  CohesiveOptions options;
+  // Time step: an absolute value (> 0) or, when time_step is 0, a fraction of the critical one (eq 6).
+  double time_step = 0.0;
+  double time_step_fraction = 0.1;
+  bool allow_unstable_time_step = false;  // the user insists on a step above the critical one
+  double global_damping = 0.0;            // fraction of the critical damping c_c of eq 21
+  double skin = 0.0;                      // Verlet skin; 0 = 0.2 r_min, or 0.25 r_mean if r_max >= 2 r_min
+  bool sort_by_cell = true;               // re-sort particles in memory at each rebuild (ids are kept)
+  int size_classes = SizeClasses::kMax;   // neighbour search: at most this many size classes (1: one grid)
+  bool masses_from_density = true;        // set m = rho 4/3 pi r^3 at set-up (false: keep the given masses)
+  PairPass pair_pass = PairPass::automatic;  // automatic: half on host builds, full in offload builds
+};
+
+/// Accumulated wall time per pass.
+struct PassTimes {
+  double neighbours = 0, contact = 0, integration = 0, other = 0;
+  long rebuilds = 0;
+};
+
+class DemSimulation {
+ public:
+  DemSimulation(Box box, Particles particles, Groups groups, DemSettings settings);
+
+  /// Validates particles and time step (InputError on bad input), builds the neighbour list and
+  /// evaluates the forces at step 0. Called by the constructor.
+  void setup();
+
+  void step();
+  void run(long steps);
+
+  // State.
+  const Box& box() const { return box_; }
+  Box& box() { return box_; }
+  /// The host copy, current (offload builds: copied back from the device if a step changed it).
+  const Particles& particles() const {
+    particles_to_host();
+    return p_;
+  }
+  /// Positions and velocities may be changed between steps; a change of radius or mass reaches the contact
+  /// pass at the next neighbour rebuild or recompute_forces() (the pass keeps per-pair constants).
+  /// Offload builds: the host copy is brought up to date, and sent back to the device before the next
+  /// kernel (any call counts as an edit).
+  Particles& particles() {
+    particles_to_host();
+    if constexpr (exec::offload_build()) host_edited_ = true;
+    return p_;
+  }
+  Groups& groups() { return groups_; }
+  const Groups& groups() const { return groups_; }
+  const NeighborList& neighbors() const {
+    pairs_to_host();
+    return list_;
+  }
+  const ContactHistory& history() const {
+    pairs_to_host();
+    return history_;
+  }
+  const DemSettings& settings() const { return settings_; }
+  const CohesiveCoefficients& coefficients() const { return coef_; }
+  long step_count() const { return step_; }
+  double time() const { return time_; }
+  double dt() const { return dt_; }
+  const StabilityLimits& limits() const { return limits_; }
+  double damping_coefficient() const { return damping_; }
+  double skin() const { return skin_; }
+  double max_cutoff() const { return max_cutoff_; }
+  const PassTimes& times() const { return times_; }
+
+  /// Forces a neighbour rebuild (with re-sort and history carry-over) now, as if particles had drifted.
+  void rebuild_neighbors();
+  /// Stores the particles in the given order (new index i holds old index order[i]) instead of by cell,
+  /// rebuilding the list and carrying the history over; ids, physics and history are unchanged.
+  void reorder(const std::vector<int>& order);
+  /// Re-evaluates forces at the current state without advancing the history (after host-side edits,
+  /// e.g. of masses: the per-pair constants are recomputed too).
+  void recompute_forces();
+  /// The contact pass in use (never automatic).
+  PairPass pair_pass() const { return pass_; }
+  /// Bytes held per particle by particles, neighbour list, history, pair table and pass scratch.
+  double bytes_per_particle() const;
+  /// Changes the global damping fraction (relaxation phases); check_global_damping() first.
+  void set_global_damping(double fraction);
+  /// InputError naming `key` unless 0 <= fraction and the damping F = -fraction c_c v slows every particle
+  /// by less than its own velocity in one step: fraction c_c dt / m_min < 1 (c_c of eq 21). Past it the
+  /// velocity flips sign each step, and past twice it grows without bound. The one check of the run key,
+  /// the stage key and the setter.
+  void check_global_damping(double fraction, const std::string& key) const;
+  /// Switches the pair law's adhesion and tangential parts (relaxation phases); takes effect at the next
+  /// force evaluation (call recompute_forces() to apply it to the current step).
+  void set_options(const CohesiveOptions& options);
+
+  /// Elastic energy, max overlap and interacting pairs at the current state.
+  CohesiveDiagnostics diagnostics() const;
+
+  /// Average virial stress (kernels/dem/virial_stress.hpp) of the selected particles (`select`: nullptr for all,
+  /// or a per-particle mask, nonzero = counted) over `volume`, from the current forces' pair law and
+  /// contact history; the state is not modified.
+  StressTensor virial_stress(const int* select, double volume, bool kinetic = true) const;
+
+  /// Empty when the state is sound; otherwise a message naming the step and the particle(s): a non-finite
+  /// position, velocity or force, or an exploding overlap (deeper than `overlap_limit` times the smaller
+  /// radius of the pair, which no calibrated cohesive solid reaches).
+  std::string health_check(double overlap_limit = 0.5) const;
+  /// The same, with diagnostics() already computed for this step.
+  std::string health_check(const CohesiveDiagnostics& d, double overlap_limit = 0.5) const;
+
+  /// Writes everything needed to continue bit for bit (particles, box, groups and their state, neighbour
+  /// list, contact history, step, time, settings, and the input file's text) to `path` atomically: into
+  /// `path`.tmp, closed, then renamed, so a crash mid-write leaves the previous checkpoint whole.
+  /// `extra` (may be empty) writes what the run keeps beside the system (its `run` group: the health check's
+  /// limit, the wear analysis's state) into the open file.
+  void write_checkpoint(const std::string& path, const std::string& input_echo,
+                        const std::function<void(h5::File&)>& extra = {}) const;
+  /// Continues from a checkpoint exactly where it was written. `input_echo` receives the input text;
+  /// `extra` (may be empty) reads what write_checkpoint's `extra` wrote (its errors name the file).
+  static DemSimulation from_checkpoint(const std::string& path, std::string* input_echo = nullptr,
+                                       const std::function<void(const h5::File&)>& extra = {});
+
+  /// One-paragraph summary: N, dt and dt_c, c_c, skin, cutoff, calibration of the smallest pair.
+  std::string summary() const;
+
+ private:
+  struct Restored {};
+  explicit DemSimulation(Restored) {}
+  /// from_checkpoint() once the file is known to be a checkpoint of a format this version reads.
+  static DemSimulation restore(const h5::File& f, std::string* input_echo);
+  void compute_forces(int update_history);
+  void refuse_coincident_particles() const;
+  void rebuild(const std::vector<int>* order);
+  void index_half_pass();  // pair table and pass scratch of the half-list pass, after a build
+  // Residency (offload builds; empty in host builds). The host copies of the particles, and of the list and
+  // history, are current when the flags say so; host_edited_ says the device copy of the particles is not.
+  void particles_to_host() const {
+    if constexpr (exec::offload_build()) {
+      if (!particles_on_host_) to_host(p_);
+      particles_on_host_ = true;
+    }
+  }
+  void pairs_to_host() const {
+    if constexpr (exec::offload_build()) {
+      if (!pairs_on_host_) {
+        list_.to_host();
+        history_.to_host();
+      }
+      pairs_on_host_ = true;
+    }
+  }
+  void particles_to_device() const {
+    if constexpr (exec::offload_build()) {
+      if (host_edited_) to_device(p_);
+      host_edited_ = false;
+    }
+  }
+  // After kernels changed the device copies: of the particles alone, or of the list and history too.
+  enum DeviceChange { particles_changed, particles_and_pairs_changed };
+  void device_changed(DeviceChange what) const {
+    if constexpr (exec::offload_build()) {
+      particles_on_host_ = false;
+      if (what == particles_and_pairs_changed) pairs_on_host_ = false;
+    }
+  }
+
+  Box box_;
+  Particles p_;
+  Groups groups_;
+  DemSettings settings_;
+  CohesiveCoefficients coef_{};
+  StabilityLimits limits_{};
+  NeighborList list_;
+  CellList sorter_;
+  ContactHistory history_;
+  CohesivePairTable table_;
+  HalfPassScratch scratch_;
+  PairPass pass_ = PairPass::full;
+  double dt_ = 0, damping_ = 0, skin_ = 0, max_cutoff_ = 0;
+  long step_ = 0;
+  double time_ = 0;
+  PassTimes times_;
+  mutable bool particles_on_host_ = true, pairs_on_host_ = true, host_edited_ = true;
+};
+
+}  // namespace debris
