@@ -280,17 +280,7 @@ RunPlan prepare(const RunOptions& opt) {
   if (!opt.output.empty()) cfg.output.directory = opt.output;
   const exec::ThreadRequest threads = exec::request_threads(opt.threads, cfg.threads);
   std::cout << exec::startup_report() << "\n" << exec::describe(threads) << "\n";
-  if (!cfg.plain_quantities.empty()) {
-    std::string keys;
-    for (const std::string& k : cfg.plain_quantities) keys += (keys.empty() ? "" : ", ") + k;
-    std::cout << "note: plain numbers beside values with units are taken as they stand (SI): " << keys << "\n";
-  }
-  if (!cfg.ignored_at_restart.empty()) {
-    std::string keys;
-    for (const std::string& k : cfg.ignored_at_restart) keys += (keys.empty() ? "" : ", ") + k;
-    std::cout << "ignored at restart: " << keys << " (the checkpoint's system and physics continue; edit stages, "
-              << "run.steps or output instead)\n";
-  }
+  print_input_notes(std::cout, cfg.ignored_at_restart, cfg.plain_quantities);
 
   // The system is validated here (radii, time step against eq 6, ...) before any file is opened.
   DemSimulation sim = restored ? std::move(*restored)

@@ -158,11 +158,10 @@ class PeridemRunModel final : public RunModel {
   std::string health_check() override {
     std::string problem = sim_.health_check();
     if (problem.empty()) problem = sim_.explosion_check();
-    if (problem.empty()) problem = sim_.penetration_check(cfg_.penetration_limit);
     return problem;
   }
-  // Every step: a body passes through another within a few steps of a fast impact, between any two
-  // samples of the full check.
+  // Every step (and at set-up), not only with the sampled checks above: a body passes through another
+  // within a few steps of a fast impact.
   std::string step_check() override { return sim_.penetration_check(cfg_.penetration_limit); }
   std::vector<std::string> thermo_columns() const override {
     return peridem_thermo_columns(sim_, cfg_.dimension, per_grain_);
@@ -283,17 +282,7 @@ RunPlan prepare(const RunOptions& opt) {
                               "run.time_step", "run.skin", "run.allow_unstable_time_step", "run.global_damping"});
   const exec::ThreadRequest threads = exec::request_threads(opt.threads, cfg.threads);
   std::cout << exec::startup_report() << "\n" << exec::describe(threads) << "\n";
-  if (!ignored.empty()) {
-    std::string keys;
-    for (const std::string& k : ignored) keys += (keys.empty() ? "" : ", ") + k;
-    std::cout << "ignored at restart: " << keys << " (the checkpoint's system and physics continue; edit stages, "
-              << "run.steps or output instead)\n";
-  }
-  if (!cfg.plain_quantities.empty()) {
-    std::string keys;
-    for (const std::string& k : cfg.plain_quantities) keys += (keys.empty() ? "" : ", ") + k;
-    std::cout << "note: plain numbers beside values with units are taken as they stand (SI): " << keys << "\n";
-  }
+  print_input_notes(std::cout, ignored, cfg.plain_quantities);
 
   // The system is validated here (time step against the stable one, ...) before any output is opened.
   std::optional<PeridemSimulation> built;

@@ -68,7 +68,8 @@ int run_plan(RunPlan& plan, const std::string& program, const RunOptions& opt, C
   auto due = [](long every, long step) { return every > 0 && step % every == 0; };
   // The set-up as built, before any file is written: a state that cannot run is bad input.
   if (!plan.restored) {
-    const std::string problem = model.health_check();
+    std::string problem = model.step_check();
+    if (problem.empty()) problem = model.health_check();
     if (!problem.empty())
       throw input_error(model.setup_key(), "the state at step " + std::to_string(first_step),
                         problem + " (nothing was written)");
@@ -197,6 +198,21 @@ int run_plan(RunPlan& plan, const std::string& program, const RunOptions& opt, C
 }
 
 }  // namespace
+
+void print_input_notes(std::ostream& out, const std::vector<std::string>& ignored_at_restart,
+                       const std::vector<std::string>& plain_quantities) {
+  auto joined = [](const std::vector<std::string>& keys) {
+    std::string s;
+    for (const std::string& k : keys) s += (s.empty() ? "" : ", ") + k;
+    return s;
+  };
+  if (!ignored_at_restart.empty())
+    out << "ignored at restart: " << joined(ignored_at_restart)
+        << " (the checkpoint's system and physics continue; edit stages, run.steps or output instead)\n";
+  if (!plain_quantities.empty())
+    out << "note: plain numbers beside values with units are taken as they stand (SI): " << joined(plain_quantities)
+        << "\n";
+}
 
 InputSource input_source(const RunOptions& options, const std::string& checkpoint_echo) {
   InputSource s;

@@ -10,6 +10,7 @@
 // each executable implements over its simulation. Exit statuses: 0 done, 2 bad input (nothing written),
 // 3 the run stopped on a failed health check (the last good checkpoint is named), 1 anything else.
 #include <functional>
+#include <iosfwd>
 #include <memory>
 #include <string>
 #include <utility>
@@ -54,7 +55,8 @@ class RunModel {
   /// is checked before any file is written, and a set-up that fails is bad input (exit 2).
   virtual std::string setup_key() const = 0;
   /// A check cheap enough for every step (PeriDEM's penetration of one body into another, which a sampled
-  /// check lets pass between samples); empty when sound. Called after every step.
+  /// check lets pass between samples); empty when sound. Called after every step and at set-up, before
+  /// health_check() there, so health_check() need not repeat it.
   virtual std::string step_check() { return {}; }
 
   virtual std::vector<std::string> thermo_columns() const = 0;
@@ -128,6 +130,12 @@ struct InputSource {
   std::string text, name, base_directory;
 };
 InputSource input_source(const RunOptions& options, const std::string& checkpoint_echo);
+
+/// The lines an executable prints after reading its input: the keys a restart's -i changed that the
+/// checkpoint overrides ("ignored at restart: material, run.time_step"), and the dimensional values given as
+/// plain numbers beside others with units (a note). Nothing for empty lists.
+void print_input_notes(std::ostream& out, const std::vector<std::string>& ignored_at_restart,
+                       const std::vector<std::string>& plain_quantities);
 
 /// Parses the command line, calls `prepare` (reads the input or the checkpoint, chooses the threads,
 /// builds and validates the system; InputError for bad input), then runs. Returns the exit status.
