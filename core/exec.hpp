@@ -69,6 +69,14 @@
 #define DEBRIS_HOST_FOR DEBRIS_PRAGMA(omp for schedule(static))
 // A vector loop (host and device): no dependence between iterations.
 #define DEBRIS_SIMD DEBRIS_PRAGMA(omp simd)
+// A host vector loop whose body calls an inlined per-pair law (no dependence between iterations either).
+// Not omp simd: GCC lowers omp simd before it inlines, and turns each struct the law takes or returns into
+// a per-lane array, which stops the loop from vectorising.
+#if defined(__clang__)
+#define DEBRIS_HOST_VECTOR_LOOP DEBRIS_PRAGMA(clang loop vectorize(assume_safety))
+#else
+#define DEBRIS_HOST_VECTOR_LOOP DEBRIS_PRAGMA(GCC ivdep)
+#endif
 
 // A real scatter (rare: pair passes use full lists and write only to i).
 #define DEBRIS_ATOMIC_ADD(target, value) \
@@ -236,6 +244,10 @@ inline void check_resident_args(const char* file, int line, const char* names, c
 #define DEBRIS_CLONES __attribute__((target_clones("default", "arch=x86-64-v3")))
 #endif
 #define DEBRIS_HOST_ONLY_CLONES __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4")))
+// For a per-pair law called from a cloned loop: GCC makes the clones after early inlining, and its later
+// inliner will not put a function built for x86-64 into an x86-64-v3 clone, so a law too large for early
+// inlining would stay an out-of-line call there (no vector loop, and no FMA: different bits).
+#define DEBRIS_ALWAYS_INLINE inline __attribute__((always_inline))
 
 #if defined(DEBRIS_CHECK_RESIDENCY)
 #define DEBRIS_RESIDENT(...) ::debris::exec::check_resident_args(__FILE__, __LINE__, #__VA_ARGS__, __VA_ARGS__)

@@ -25,6 +25,12 @@ inline Vec3& operator-=(Vec3& a, Vec3 b) {
   a.z -= b.z;
   return a;
 }
+/// a u + b v, with each component written out: as an operator expression, `a * u + b * v` leaves the order
+/// of the two products to the compiler, and with FMA contraction that order decides which product is fused,
+/// so the same law in two loops could round differently.
+inline Vec3 lincomb(double a, Vec3 u, double b, Vec3 v) {
+  return {a * u.x + b * v.x, a * u.y + b * v.y, a * u.z + b * v.z};
+}
 inline double dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 inline Vec3 cross(Vec3 a, Vec3 b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};

@@ -32,13 +32,6 @@ inline void pd_weighted_volume_pass(const PdLpsTable& lps, const PdGrains& grain
   to_host(nodes);
 }
 
-inline long pd_break_bonds_pass(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds, const PdNodes& nodes) {
-  send(lps, grains, bonds, nodes);
-  const long broke = debris::pd_break_bonds_pass(lps, grains, bonds, nodes);
-  exec::to_host(bonds.broken);
-  return broke;
-}
-
 inline void pd_dilatation_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds, PdNodes& nodes) {
   send(lps, grains, bonds, nodes);
   debris::pd_dilatation_pass(lps, grains, bonds, nodes);
@@ -87,13 +80,6 @@ inline double pd_elastic_energy(const PdLpsTable& lps, const PdGrains& grains, c
 inline void pd_zero_forces(PdNodes& nodes) {
   to_device(nodes);
   debris::pd_zero_forces(nodes);
-  to_host(nodes);
-}
-
-inline void pd_gravity_pass(PdNodes& nodes, const PdGrains& grains, Vec3 g) {
-  to_device(nodes);
-  to_device(grains);
-  debris::pd_gravity_pass(nodes, grains, g);
   to_host(nodes);
 }
 

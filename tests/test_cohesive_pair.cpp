@@ -40,6 +40,25 @@ void expect_close(double actual, double expected, double scale, const std::strin
   EXPECT_NEAR(actual, expected, 1e-12 * scale) << what;
 }
 
+// One end of a pair handed to the evaluator as the passes hand it: delta_f and c_N from the pair's
+// parameters, i first unless told otherwise.
+CohesivePairResult pair_force(const CohesiveCoefficients& c, const CohesivePairParams& p, const CohesiveOptions& opt,
+                              Vec3 dx, double ri, double rj, Vec3 vi, Vec3 vj, Vec3 wi, Vec3 wj, Vec3& h, double dt,
+                              int update, int i_first = 1) {
+  const CohesivePairResult out =
+      cohesive_pair_force(c, opt, CohesivePair{dx, ri, rj, p.delta_f, p.c_n, vi - vj, wi, wj, h, i_first}, dt, update);
+  h = out.history;
+  return out;
+}
+
+// F_N of eq 3 as the evaluator gives it: a pair at rest along x with no history (F_x = -F_N).
+double normal_force(const CohesiveCoefficients& c, const CohesivePairParams& p, double ri, double rj, double dn) {
+  Vec3 h{};
+  return -pair_force(c, p, CohesiveOptions{}, Vec3{ri + rj + dn, 0, 0}, ri, rj, Vec3{}, Vec3{}, Vec3{}, Vec3{}, h, 0.0,
+                     0)
+              .force.x;
+}
+
 class CohesivePairLaw : public ::testing::TestWithParam<Regime> {
  protected:
   void SetUp() override {
@@ -68,7 +87,7 @@ TEST_P(CohesivePairLaw, PullOutAndReturnFollowsEq3) {
       const double dn = pass == 0 ? start + s * v : end - s * v;
       const Vec3 dx{r.ri + r.rj + dn, 0, 0};
       const CohesivePairResult out =
-          cohesive_pair_force(p, CohesiveOptions{}, dx, r.ri, r.rj, Vec3{vel, 0, 0}, Vec3{}, Vec3{}, Vec3{}, h, dt, 1);
+          pair_force(c, p, CohesiveOptions{}, dx, r.ri, r.rj, Vec3{vel, 0, 0}, Vec3{}, Vec3{}, Vec3{}, h, dt, 1);
       const double expected = dn <= p.delta_f ? -(eq3(p.k_n, p.delta_e, p.delta_f, dn) + p.c_n * vel) : 0.0;
       expect_close(out.force.x, expected, scale, "dN = " + std::to_string(dn));
       EXPECT_EQ(out.force.y, 0.0);
@@ -96,9 +115,11 @@ TEST_P(CohesivePairLaw, PeakForceIsMatchedStrengthTimesArea) {
   const double r_eff = std::min(r.ri, r.rj), d = r.ri + r.rj;
   const double a_n = std::numbers::sqrt2 * r_eff * r_eff / (1 - 2 * 0.15);
   const double sigma = 0.2 * (d > 150.0 ? std::pow(d / 150.0, -r.s) : 1.0);
-  const double peak_at = std::min(p.delta_e, p.delta_f);
-  EXPECT_NEAR(cohesive_normal_force(p, peak_at), sigma * a_n, 1e-12 * sigma * a_n);
-  EXPECT_EQ(cohesive_normal_force(p, p.delta_f * (1 + 1e-12)), 0.0);
+  // Just inside the peak: the evaluator recovers dN from the centres' distance (to an ulp of r_i + r_j + dN),
+  // and where delta_f < delta_e the peak sits on the cliff at delta_f.
+  const double peak_at = std::min(p.delta_e, p.delta_f) * (1 - 1e-13);
+  EXPECT_NEAR(normal_force(c, p, r.ri, r.rj, peak_at), sigma * a_n, 1e-12 * sigma * a_n);
+  EXPECT_EQ(normal_force(c, p, r.ri, r.rj, p.delta_f * (1 + 1e-12)), 0.0);
   // The work to separate a touching pair is 2 A_N gamma (eq A.33) for s = 0.5 or below d_c.
   if (d <= 150.0 || r.s == 0.5)
     EXPECT_NEAR(-cohesive_normal_energy(p, 0.0), 2 * a_n * 1.5, 1e-12 * 2 * a_n * 1.5);
@@ -124,7 +145,7 @@ TEST_P(CohesivePairLaw, SpinDrivenShearCycleFollowsEqs4And5) {
     for (int ph : phases) {
       const double wz = ph > 0 ? w : -w;
       for (int s = 0; s < std::abs(ph); ++s) {
-        const CohesivePairResult out = cohesive_pair_force(p, CohesiveOptions{}, dx, r.ri, r.rj, Vec3{}, Vec3{},
+        const CohesivePairResult out = pair_force(c, p, CohesiveOptions{}, dx, r.ri, r.rj, Vec3{}, Vec3{},
                                                            Vec3{0, 0, wz}, Vec3{}, h, dt, 1);
         const double slide = a_i * wz;  // tangential velocity of the contact point, along +x
         h_expected += slide * dt;
@@ -159,7 +180,7 @@ TEST_P(CohesivePairLaw, PullingAShearedPairRescalesTheSpringByEq5) {
   for (int s = 0; s <= steps; ++s) {
     const double dn = s * v;
     const double d = d0 + dn, a_i = d * a_i_of;
-    const CohesivePairResult out = cohesive_pair_force(p, CohesiveOptions{}, Vec3{0, d, 0}, r.ri, r.rj, Vec3{0, v, 0},
+    const CohesivePairResult out = pair_force(c, p, CohesiveOptions{}, Vec3{0, d, 0}, r.ri, r.rj, Vec3{0, v, 0},
                                                        Vec3{}, Vec3{0, 0, w}, Vec3{}, h, dt, 1);
     if (dn > p.delta_f) {
       h_expected = 0.0;
@@ -174,14 +195,14 @@ TEST_P(CohesivePairLaw, PullingAShearedPairRescalesTheSpringByEq5) {
     expect_close(h.x, h_expected, scale / p.k_t, "history at dN = " + std::to_string(dn));
   }
   // Come back into range: fresh history, pure normal force.
-  const CohesivePairResult back = cohesive_pair_force(p, CohesiveOptions{}, Vec3{0, d0 + 0.5 * p.delta_e, 0}, r.ri,
+  const CohesivePairResult back = pair_force(c, p, CohesiveOptions{}, Vec3{0, d0 + 0.5 * p.delta_e, 0}, r.ri,
                                                       r.rj, Vec3{}, Vec3{}, Vec3{}, Vec3{}, h, dt, 1);
   EXPECT_EQ(norm(h), 0.0);
   expect_close(back.force.y, -eq3(p.k_n, p.delta_e, p.delta_f, 0.5 * p.delta_e), scale, "re-bonded");
 }
 
 // Both ends of a pair, evaluated separately as a full neighbour list does, stay exact opposites over many
-// random steps (bit for bit), and the torques conserve angular momentum: x_i x F + t_i + x_j x (-F) + t_j = 0.
+// random steps (bit for bit), as do the torque on j from either end, and the torques conserve angular momentum: x_i x F + t_i + x_j x (-F) + t_j = 0.
 TEST_P(CohesivePairLaw, BothEndsStayExactOpposites) {
   const Regime& r = GetParam();
   std::mt19937_64 rng(7);
@@ -195,14 +216,18 @@ TEST_P(CohesivePairLaw, BothEndsStayExactOpposites) {
     const Vec3 wj{vs / r.rj * u(rng), vs / r.rj * u(rng), vs / r.rj * u(rng)};
     xi += vi;
     xj += vj;
-    const auto a = cohesive_pair_force(p, CohesiveOptions{}, xi - xj, r.ri, r.rj, vi, vj, wi, wj, hij, 1.0, 1);
-    const auto b = cohesive_pair_force(p, CohesiveOptions{}, xj - xi, r.rj, r.ri, vj, vi, wj, wi, hji, 1.0, 1);
+    const auto a = pair_force(c, p, CohesiveOptions{}, xi - xj, r.ri, r.rj, vi, vj, wi, wj, hij, 1.0, 1);
+    const auto b = pair_force(c, p, CohesiveOptions{}, xj - xi, r.rj, r.ri, vj, vi, wj, wi, hji, 1.0, 1, 0);
     ASSERT_EQ(a.force.x, -b.force.x);
     ASSERT_EQ(a.force.y, -b.force.y);
     ASSERT_EQ(a.force.z, -b.force.z);
     ASSERT_EQ(hij.x, -hji.x);
     ASSERT_EQ(hij.y, -hji.y);
     ASSERT_EQ(hij.z, -hji.z);
+    // The torque on j from i's end (the half-list pass's one evaluation) is the one j's end computes.
+    ASSERT_EQ(a.torque_j.x, b.torque.x);
+    ASSERT_EQ(a.torque_j.y, b.torque.y);
+    ASSERT_EQ(a.torque_j.z, b.torque.z);
     const Vec3 l = cross(xi, a.force) + a.torque + cross(xj, b.force) + b.torque;
     EXPECT_NEAR(norm(l), 0.0, 1e-9 * scale * (r.ri + r.rj));
   }
@@ -210,11 +235,12 @@ TEST_P(CohesivePairLaw, BothEndsStayExactOpposites) {
 
 // The potential of eq 3 is the integral of the force: F_N = dU/d(dN) by central differences.
 TEST_P(CohesivePairLaw, NormalEnergyIsTheIntegralOfEq3) {
+  const Regime& r = GetParam();
   for (double dn : {-0.5 * p.delta_e, 0.3 * p.delta_e, 0.5 * (p.delta_e + p.delta_f), 1.1 * p.delta_f}) {
     if (std::abs(dn - p.delta_e) < 1e-9) continue;
     const double e = 1e-6 * p.delta_e;
     const double fd = (cohesive_normal_energy(p, dn + e) - cohesive_normal_energy(p, dn - e)) / (2 * e);
-    EXPECT_NEAR(fd, cohesive_normal_force(p, dn), 1e-6 * scale) << "dN = " << dn;
+    EXPECT_NEAR(fd, normal_force(c, p, r.ri, r.rj, dn), 1e-6 * scale) << "dN = " << dn;
   }
   EXPECT_EQ(cohesive_normal_energy(p, p.delta_f), 0.0);
   // Work of separation from dN = 0 to delta_f: the area under Fig 2 (eq A.31), or the triangle up to the
@@ -240,15 +266,15 @@ TEST(CohesivePairOptions, RepulsionOnlyAndNoTangential) {
   const auto p = cohesive_pair_params(c, 50, 50, mass_of(50), mass_of(50));
   Vec3 h{};
   CohesiveOptions repulsive{0, 1};
-  auto out = cohesive_pair_force(p, repulsive, Vec3{100 + 0.5 * p.delta_e, 0, 0}, 50, 50, Vec3{}, Vec3{}, Vec3{},
+  auto out = pair_force(c, p, repulsive, Vec3{100 + 0.5 * p.delta_e, 0, 0}, 50, 50, Vec3{}, Vec3{}, Vec3{},
                                  Vec3{}, h, 1.0, 1);
   EXPECT_EQ(out.interacting, 0);
   EXPECT_EQ(norm(out.force), 0.0);
-  out = cohesive_pair_force(p, repulsive, Vec3{100 - 0.5 * p.delta_e, 0, 0}, 50, 50, Vec3{}, Vec3{}, Vec3{}, Vec3{},
+  out = pair_force(c, p, repulsive, Vec3{100 - 0.5 * p.delta_e, 0, 0}, 50, 50, Vec3{}, Vec3{}, Vec3{}, Vec3{},
                             h, 1.0, 1);
   EXPECT_NEAR(out.force.x, 0.5 * p.k_n * p.delta_e, 1e-12 * p.k_n * p.delta_e);
   CohesiveOptions normal_only{1, 0};
-  out = cohesive_pair_force(p, normal_only, Vec3{0, 100, 0}, 50, 50, Vec3{1, 0, 0}, Vec3{}, Vec3{}, Vec3{}, h, 1.0, 1);
+  out = pair_force(c, p, normal_only, Vec3{0, 100, 0}, 50, 50, Vec3{1, 0, 0}, Vec3{}, Vec3{}, Vec3{}, h, 1.0, 1);
   EXPECT_EQ(out.force.x, 0.0);
   EXPECT_EQ(norm(h), 0.0);
 }

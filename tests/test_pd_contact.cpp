@@ -152,7 +152,7 @@ PdContactSettings settings(double restitution, double friction) {
   return s;
 }
 
-// One force evaluation: rebuild if needed, zero, (springs), contact, gravity.
+// One force evaluation as a PeriDEM step makes it: rebuild if needed, weights, (springs), contact.
 struct Stepper {
   PdContactTable table;
   PdDamping damping = PdDamping::grain_centres;
@@ -168,10 +168,9 @@ struct Stepper {
       test::build_list(list, s.nodes, s.grains, s.bonds, table.max_contact_radius(), skin);
       ++rebuilds;
     }
-    test::pd_zero_forces(s.nodes);
+    test::pd_weight_forces(s.nodes, s.grains, gravity);  // f = m g on particle nodes, 0 on walls
     if (spring_k > 0) spring_pass(s, spring_k);
     test::pd_contact_pass(table, damping, s.nodes, s.grains, list, work, dt);
-    test::pd_gravity_pass(s.nodes, s.grains, gravity);
   }
 };
 
@@ -1061,8 +1060,7 @@ TEST(PdIntegrate, ViscousDampingFollowsItsRecurrenceToTheTerminalVelocity) {
   const double terminal = gy / c;
   const double half = v0 + 0.5 * dt * (gy - c * v0);  // the first step's half kick
   for (int n = 1; n <= 400; ++n) {
-    test::pd_zero_forces(s.nodes);
-    test::pd_gravity_pass(s.nodes, s.grains, {0.0, gy, 0.0});
+    test::pd_weight_forces(s.nodes, s.grains, {0.0, gy, 0.0});
     test::pd_viscous_damping(s.nodes, s.grains, c);
     ASSERT_EQ(s.nodes.fx[1], 0.0) << "a wall node is not damped";
     test::pd_integrate(s.nodes, s.grains, dt, n == 1);
@@ -1093,8 +1091,7 @@ TEST(PdIntegrate, FreeNodeFollowsTheParabolaFixedComponentsStayWallsMoveAtTheirV
   s.nodes.vz[1] = v0.z;
   const double dt = 1e-3;
   for (int n = 1; n <= 2000; ++n) {
-    test::pd_zero_forces(s.nodes);
-    test::pd_gravity_pass(s.nodes, s.grains, g);
+    test::pd_weight_forces(s.nodes, s.grains, g);
     s.nodes.fx[2] = 1e6;  // a wall ignores forces
     test::pd_integrate(s.nodes, s.grains, dt, n == 1);
     const double t = n * dt;
@@ -1114,18 +1111,19 @@ TEST(PdIntegrate, FreeNodeFollowsTheParabolaFixedComponentsStayWallsMoveAtTheirV
     ASSERT_EQ(s.nodes.y[3], 0.0);
     ASSERT_EQ(s.nodes.vx[2], 0.3);
   }
-  // Gravity skips walls; zero_forces clears everything.
-  test::pd_zero_forces(s.nodes);
-  test::pd_gravity_pass(s.nodes, s.grains, g);
-  EXPECT_EQ(s.nodes.fy[2], 0.0);
-  EXPECT_DOUBLE_EQ(s.nodes.fy[0], s.nodes.mass[0] * g.y);
-  // The fused first sweep of a step gives the same bits as the two (walls left with stale forces first).
-  const exec::DeviceVector<double> fx = s.nodes.fx, fy = s.nodes.fy, fz = s.nodes.fz;
+  // The first sweep of a step: each particle node's weight, and zero on walls, whatever the forces held.
   for (std::size_t i = 0; i < s.nodes.size(); ++i) s.nodes.fx[i] = s.nodes.fy[i] = s.nodes.fz[i] = 7.0;
   test::pd_weight_forces(s.nodes, s.grains, g);
-  EXPECT_EQ(s.nodes.fx, fx);
-  EXPECT_EQ(s.nodes.fy, fy);
-  EXPECT_EQ(s.nodes.fz, fz);
+  for (const int wall_node : {2, 3}) {
+    EXPECT_EQ(s.nodes.fx[wall_node], 0.0);
+    EXPECT_EQ(s.nodes.fy[wall_node], 0.0);
+    EXPECT_EQ(s.nodes.fz[wall_node], 0.0);
+  }
+  for (const int node : {0, 1}) {
+    EXPECT_EQ(s.nodes.fx[node], 0.0);
+    EXPECT_DOUBLE_EQ(s.nodes.fy[node], s.nodes.mass[node] * g.y);
+    EXPECT_DOUBLE_EQ(s.nodes.fz[node], s.nodes.mass[node] * g.z);
+  }
   EXPECT_FALSE(std::signbit(s.nodes.fx[0]));  // g.x = 0: +0.0, as 0.0 + m * 0.0 gives
 }
 

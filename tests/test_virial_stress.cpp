@@ -145,10 +145,10 @@ TEST(VirialStress, ObliquePairIncludesTangentialSpringAndDamping) {
 
   const Particles& q = s.p;
   const CohesivePairParams pp = cohesive_pair_params(c, 50, 50, q.mass[0], q.mass[1]);
-  Vec3 hh = h;
-  const CohesivePairResult pr = cohesive_pair_force(pp, CohesiveOptions{}, d * n, 50, 50, {q.vx[0], q.vy[0], q.vz[0]},
-                                                    {q.vx[1], q.vy[1], q.vz[1]}, {q.wx[0], q.wy[0], q.wz[0]},
-                                                    {q.wx[1], q.wy[1], q.wz[1]}, hh, 0.0, 0);
+  const CohesivePair pair{d * n, 50, 50, pp.delta_f, pp.c_n,
+                          Vec3{q.vx[0], q.vy[0], q.vz[0]} - Vec3{q.vx[1], q.vy[1], q.vz[1]},
+                          {q.wx[0], q.wy[0], q.wz[0]}, {q.wx[1], q.wy[1], q.wz[1]}, h, 1};
+  const CohesivePairResult pr = cohesive_pair_force(c, CohesiveOptions{}, pair, 0.0, 0);
   const Vec3 r = d * n, f = pr.force;
   // The tangential and damping parts are a sizeable share of the force, so leaving them out would show.
   const Vec3 f_normal_only = -(pp.k_n * 8.0) * n;

@@ -36,13 +36,14 @@ void cohesive_contact_pass(const CohesiveCoefficients& c, const CohesiveOptions&
     for (int k = offset[i]; k < offset[i + 1]; ++k) {
       const int j = index[k];
       const Vec3 dx = minimum_image(b, xi - Vec3{x[j], y[j], z[j]});
+      // delta_f (eq 10) and c_N (eq 12) as CohesivePairTable makes them for the half-list pass.
       const CohesivePairParams pp = cohesive_pair_params(coef, ri, radius[j], mi, mass[j]);
-      Vec3 h{hx[k], hy[k], hz[k]};
-      const CohesivePairResult r = cohesive_pair_force(pp, o, dx, ri, radius[j], vi, Vec3{vx[j], vy[j], vz[j]},
-                                                       wi, Vec3{wx[j], wy[j], wz[j]}, h, dt, update_history);
-      hx[k] = h.x;
-      hy[k] = h.y;
-      hz[k] = h.z;
+      const CohesivePair pair{dx, ri, radius[j], pp.delta_f, pp.c_n, vi - Vec3{vx[j], vy[j], vz[j]},
+                              wi, Vec3{wx[j], wy[j], wz[j]}, Vec3{hx[k], hy[k], hz[k]}, i < j};
+      const CohesivePairResult r = cohesive_pair_force(coef, o, pair, dt, update_history);
+      hx[k] = r.history.x;
+      hy[k] = r.history.y;
+      hz[k] = r.history.z;
       f += r.force;
       t += r.torque;
     }

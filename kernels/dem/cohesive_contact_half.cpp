@@ -22,7 +22,8 @@ struct PairInputs {
   double *hx, *hy, *hz;
   BoxView box;
   double dt;
-  int adhesive, tangential, update;
+  CohesiveOptions opt;
+  int update;
 };
 
 // Phase 1 results of at most kChunkPairs pairs: small enough to stay in L1 between the vector loop that
@@ -34,23 +35,18 @@ struct ChunkBuffer {
   alignas(64) double tjx[kChunkPairs], tjy[kChunkPairs], tjz[kChunkPairs];
 };
 
-// Phase 1 for pairs [k0, k1): eqs 2-5 exactly as in cohesive_pair_force(), made
-// branch-free (selects instead of early returns) so that the loop vectorises.
-// Compiled three times (x86-64, AVX2, AVX-512); the loader picks the best the
-// machine runs, so the default build still runs anywhere.
-DEBRIS_HOST_ONLY_CLONES void pair_chunk(const PairInputs &a,
-                                                                                              int k0, int k1,
-                                                                                              ChunkBuffer &o) {
+// Phase 1 for pairs [k0, k1): eqs 2-5 (cohesive_pair_force) for each pair, its force and both torques
+// into the chunk buffer. The evaluator is branch-free, so this loop vectorises. Compiled three times
+// (x86-64, AVX2, AVX-512); the loader picks the best the machine runs, so the default build still runs
+// anywhere.
+DEBRIS_HOST_ONLY_CLONES void pair_chunk(const PairInputs &a, int k0, int k1, ChunkBuffer &o) {
   const int *__restrict row = a.row;
   const int *__restrict col = a.col;
   const double *__restrict x = a.x, *__restrict y = a.y, *__restrict z = a.z, *__restrict r = a.r;
   const double *__restrict vx = a.vx, *__restrict vy = a.vy, *__restrict vz = a.vz;
   const double *__restrict wx = a.wx, *__restrict wy = a.wy, *__restrict wz = a.wz;
-  const CohesivePairTable &t = *a.t;
-  const double *__restrict df = t.delta_f.data();
-  const double *__restrict cn = t.c_n.data();
-  const double E_an = a.c.E * a.c.area_n, area_t = a.c.area_t, strain_e = a.c.strain_e;
-  const double sigma_t = a.c.sigma_t;
+  const double *__restrict df = a.t->delta_f.data();
+  const double *__restrict cn = a.t->c_n.data();
   double *__restrict hx = a.hx, *__restrict hy = a.hy, *__restrict hz = a.hz;
   // Chunk-local results, slot q = k - k0.
   double *__restrict fx = o.fx, *__restrict fy = o.fy, *__restrict fz = o.fz;
@@ -58,91 +54,40 @@ DEBRIS_HOST_ONLY_CLONES void pair_chunk(const PairInputs &a,
   double *__restrict tjx = o.tjx, *__restrict tjy = o.tjy, *__restrict tjz = o.tjz;
   const double lx = a.box.len[0], ly = a.box.len[1], lz = a.box.len[2];
   const int px = a.box.periodic[0], py = a.box.periodic[1], pz = a.box.periodic[2];
-  const double dt = a.dt, kt_over_kn = t.kt_over_kn, ct_over_cn = t.ct_over_cn;
-  const int adhesive = a.adhesive, update = a.update;
-  const double tangential = a.tangential ? 1.0 : 0.0;
-  DEBRIS_SIMD
+  const CohesiveCoefficients c = a.c;
+  const CohesiveOptions opt = a.opt;
+  const double dt = a.dt;
+  const int update = a.update;
+  DEBRIS_HOST_VECTOR_LOOP
   for (int q = 0; q < k1 - k0; ++q) {
     const int k = k0 + q;
     const int i = row[k], j = col[k];
-    const double dx = nearest_image(x[i] - x[j], lx, px);
-    const double dy = nearest_image(y[i] - y[j], ly, py);
-    const double dz = nearest_image(z[i] - z[j], lz, pz);
-    const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
-    const double ri = r[i], rj = r[j], radsum = ri + rj;
-    const double dn = d - radsum;
-    // Eqs 7-17 for this pair (delta_f, which may need pow, and c_N of eq 12 come from the table).
-    const double r_eff = ri < rj ? ri : rj, r2 = r_eff * r_eff;
-    const double de_k = radsum * strain_e;
-    const double df_k = df[k];
-    // The four reciprocals this pair needs from one division (the divider, not the arithmetic, limited
-    // this loop): 1/a_m = (product of the others) / (product of all). Exact to a few ulp; the product
-    // stays far inside double range for any physical units (lengths within 1e+-70).
-    const double gap = df_k > de_k ? df_k - de_k : 1.0, df_safe = df_k > 0.0 ? df_k : 1.0;
-    const double p_dr = d * radsum, p_drg = p_dr * gap;
-    const double s_gf = gap * df_safe;
-    const double inv_all = 1.0 / (p_drg * df_safe);
-    const double inv_d = inv_all * (radsum * s_gf);
-    const double inv_rs = inv_all * (d * s_gf);
-    const double inv_gap = inv_all * (p_dr * df_safe);
-    const double inv_df = inv_all * p_drg;
-    const double nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
-    const double kn_k = E_an * r2 * inv_rs;
-    const double ks_k = df_k > de_k ? kn_k * de_k * inv_gap : 0.0;
-    const double fmt_k = area_t * r2 * sigma_t;
-    const double cn_k = cn[k];
-    const bool on = dn <= (adhesive ? df_k : 0.0);
-
-    // Eq 3 (positive in tension) and the normal part of eq 2.
-    const double f_n = (adhesive && dn > de_k) ? ks_k * (df_k - dn) : kn_k * dn;
-    const double rvx = vx[i] - vx[j], rvy = vy[i] - vy[j], rvz = vz[i] - vz[j];
-    const double v_n = rvx * nx + rvy * ny + rvz * nz;
-    const double fnorm = on ? -(f_n + cn_k * v_n) : 0.0;
-
-    // Contact point velocity (arms a_i + a_j = d), tangential part.
-    const double a_i = d * ri * inv_rs, a_j = d - a_i;
-    const double sx = a_i * wx[i] + a_j * wx[j], sy = a_i * wy[i] + a_j * wy[j], sz = a_i * wz[i] + a_j * wz[j];
-    const double vcx = rvx - (sy * nz - sz * ny), vcy = rvy - (sz * nx - sx * nz), vcz = rvz - (sx * ny - sy * nx);
-    const double vcn = vcx * nx + vcy * ny + vcz * nz;
-    const double vtx = vcx - vcn * nx, vty = vcy - vcn * ny, vtz = vcz - vcn * nz;
-
-    // History: rotated into the tangent plane keeping its length, advanced
-    // (when updating), capped (eqs 4-5).
-    const double h0x = hx[k], h0y = hy[k], h0z = hz[k];
-    const double h2 = h0x * h0x + h0y * h0y + h0z * h0z, hn = h0x * nx + h0y * ny + h0z * nz;
-    const double hpx = h0x - hn * nx, hpy = h0y - hn * ny, hpz = h0z - hn * nz;
-    const double hp2 = hpx * hpx + hpy * hpy + hpz * hpz;
-    const double keep = hp2 > 0.0 ? std::sqrt(h2 / (hp2 > 0.0 ? hp2 : 1.0)) : 1.0;
-    const double h_x = update ? keep * hpx + dt * vtx : h0x;
-    const double h_y = update ? keep * hpy + dt * vty : h0y;
-    const double h_z = update ? keep * hpz + dt * vtz : h0z;
-    const double k_t = kt_over_kn * kn_k;
-    const double share = (df_k - dn) * inv_df;
-    const double cap = (share < 1.0 ? share : 1.0) * fmt_k;
-    const double spring = k_t * std::sqrt(h_x * h_x + h_y * h_y + h_z * h_z);
-    const double slide = spring > cap ? cap / (spring > 0.0 ? spring : 1.0) : 1.0;
-    const double live = on ? tangential : 0.0;
-    const double kts = -live * k_t * slide, cts = -live * ct_over_cn * cn_k;
-    const double ftx = kts * h_x + cts * vtx, fty = kts * h_y + cts * vty, ftz = kts * h_z + cts * vtz;
-    // Slid back to the cap when updating; gone when out of range or without
-    // tangential force.
-    const double stays = live * (update ? slide : 1.0);
-    hx[k] = stays * h_x;
-    hy[k] = stays * h_y;
-    hz[k] = stays * h_z;
-
-    fx[q] = fnorm * nx + ftx;
-    fy[q] = fnorm * ny + fty;
-    fz[q] = fnorm * nz + ftz;
-    // Torques -a n x F_t on both particles (n points from j to i; j sees -n and
-    // -F_t).
-    const double cx = ny * ftz - nz * fty, cy = nz * ftx - nx * ftz, cz = nx * fty - ny * ftx;
-    tix[q] = -a_i * cx;
-    tiy[q] = -a_i * cy;
-    tiz[q] = -a_i * cz;
-    tjx[q] = -a_j * cx;
-    tjy[q] = -a_j * cy;
-    tjz[q] = -a_j * cz;
+    const Vec3 dx{nearest_image(x[i] - x[j], lx, px), nearest_image(y[i] - y[j], ly, py),
+                  nearest_image(z[i] - z[j], lz, pz)};
+    // A half list keeps a pair in row min(i, j): i is the first particle.
+    const CohesivePair pair{dx,
+                            r[i],
+                            r[j],
+                            df[k],
+                            cn[k],
+                            Vec3{vx[i] - vx[j], vy[i] - vy[j], vz[i] - vz[j]},
+                            Vec3{wx[i], wy[i], wz[i]},
+                            Vec3{wx[j], wy[j], wz[j]},
+                            Vec3{hx[k], hy[k], hz[k]},
+                            1};
+    const CohesivePairResult out = cohesive_pair_force(c, opt, pair, dt, update);
+    hx[k] = out.history.x;
+    hy[k] = out.history.y;
+    hz[k] = out.history.z;
+    fx[q] = out.force.x;
+    fy[q] = out.force.y;
+    fz[q] = out.force.z;
+    tix[q] = out.torque.x;
+    tiy[q] = out.torque.y;
+    tiz[q] = out.torque.z;
+    tjx[q] = out.torque_j.x;
+    tjy[q] = out.torque_j.y;
+    tjz[q] = out.torque_j.z;
   }
 }
 
@@ -238,8 +183,7 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
                       history.hz.data(),
                       box,
                       dt,
-                      opt.adhesive,
-                      opt.tangential,
+                      opt,
                       update_history};
 
   constexpr int kShareStride = HalfPassScratch::kShareStride;

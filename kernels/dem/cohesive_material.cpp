@@ -58,6 +58,8 @@ CohesiveCoefficients CohesiveCoefficients::from(const CohesiveMaterial& m) {
   c.s = m.scaling;
   c.sigma_t = m.shear_strength;
   c.damping = 2.0 * (1.0 - m.restitution) / std::numbers::pi;
+  c.kt_over_kn = c.area_t / c.area_n;
+  c.ct_over_cn = std::sqrt(c.kt_over_kn);
   return c;
 }
 

@@ -55,6 +55,8 @@ struct CohesiveCoefficients {
   double s;            // scaling exponent of eq 10
   double sigma_t;      // sigma_{m,T}, eq 11
   double damping;      // 2 (1 - eta) / pi, eqs 12-13
+  double kt_over_kn;   // k_T / k_N = A_T / A_N, the same for every pair (eqs 7-8, 15-16)
+  double ct_over_cn;   // c_T / c_N = sqrt(k_T / k_N) (eqs 12-13)
 
   static CohesiveCoefficients from(const CohesiveMaterial& m);
 };

@@ -1,9 +1,11 @@
 #pragma once
-// The cohesive pair force of Pham-Ba & Molinari, eqs 2-5, as a pure function of one pair.
+// The cohesive pair force of Pham-Ba & Molinari, eqs 2-5, as a pure function of one pair: the only place
+// the law is written. The vectorised half-list pass, the full-list (device) pass and the virial stress all
+// call cohesive_pair_force below.
 //
 //   F_i = -(F_N + c_N v_N) n - (F_T + c_T v_T) t                                   (eq 2)
 //   F_N = k_N dN                      if dN <= delta_e                              (eq 3)
-//       = -k_N delta_e (dN - delta_f) / (delta_f - delta_e)   if delta_e < dN <= delta_f
+//       = k_s (delta_f - dN),  k_s = k_N delta_e / (delta_f - delta_e)   if delta_e < dN <= delta_f
 //       = 0                           if dN > delta_f (the whole force, damping included, vanishes;
 //                                     also when delta_f < delta_e, as eq 10 gives for d > d_c, s > 0)
 //   F_T = min(k_T |dT|, F'_mT)                                                      (eq 4)
@@ -18,6 +20,14 @@
 //
 // The contact point splits the centre line in the ratio r_i : r_j (arms a_i + a_j = |x_i - x_j|), so the
 // tangential force produces torques that conserve angular momentum exactly, also for pairs in tension.
+//
+// Branch-free (selects, no early return) so that the half-list pass's loop vectorises; eqs 7-17 are
+// evaluated inline from the folded constants, except delta_f (eq 10, which may need a pow) and c_N (eq 12,
+// a square root and the masses), which the caller brings: CohesivePairTable streams them per pair, the
+// full-list pass computes them with cohesive_pair_params (the same function the table uses, so both passes
+// see the same bits).
+#include <cmath>
+
 #include "core/exec.hpp"
 #include "core/vec3.hpp"
 #include "kernels/dem/cohesive_material.hpp"
@@ -30,23 +40,104 @@ struct CohesiveOptions {
   int tangential = 1;  // 0: no tangential spring or damping (phase 2)
 };
 
-/// What one pair does to particle i.
+/// One pair seen from particle i.
+struct CohesivePair {
+  Vec3 dx;          // minimum image of x_i - x_j
+  double ri, rj;    // radii
+  double delta_f;   // fracture separation, eq 10
+  double c_n;       // normal damping, eq 12
+  Vec3 v_rel;       // v_i - v_j
+  Vec3 wi, wj;      // angular velocities
+  Vec3 history;     // tangential displacement dT as seen from i, before this step
+  int i_first;      // 1 if i is the pair's first particle (the lower index): the moment arms are computed
+                    // from the first one's radius, so both ends of a full list get exactly opposite forces
+                    // and the half list (row i < partner j) the same bits as the full list
+};
+
+/// What one pair does.
 struct CohesivePairResult {
   Vec3 force;      // on i (j receives the opposite)
   Vec3 torque;     // on i, about its centre
+  Vec3 torque_j;   // on j, about its centre
+  Vec3 history;    // dT after this step: advanced, rescaled when it slid, zero out of range
   double delta_n;  // normal separation dN = |x_i - x_j| - r_i - r_j
-  int interacting; // 1 if dN <= delta_f
+  int interacting; // 1 if dN <= delta_f (dN <= 0 without adhesion)
 };
 
 DEBRIS_DECLARE_TARGET
 
-/// Normal force law of eq 3 (positive in tension). For d > d_c and s > 0, eq 10 gives delta_f < delta_e:
-/// the force is Hookean up to delta_f and drops to zero there (Fig A.2), so the matched strength is the
-/// sigma (d/d_c)^-s of eq 20 and the surface energy stays gamma.
-inline double cohesive_normal_force(const CohesivePairParams& p, double delta_n) {
-  if (delta_n > p.delta_f) return 0.0;
-  if (delta_n <= p.delta_e) return p.k_n * delta_n;
-  return -p.k_n * p.delta_e / (p.delta_f - p.delta_e) * (delta_n - p.delta_f);
+/// Eqs 2-5 for one pair. The pair's tangential displacement is advanced by one step when update_history is
+/// set (every step but the set-up force evaluation), rescaled when it slides, and zeroed when the pair is
+/// out of range or has no tangential force. Everything by value: in an `omp simd` loop an object whose
+/// address is taken becomes a per-lane array, and the loop no longer vectorises.
+DEBRIS_ALWAYS_INLINE CohesivePairResult cohesive_pair_force(const CohesiveCoefficients& c,
+                                                            const CohesiveOptions& opt, CohesivePair pair,
+                                                            double dt, int update_history) {
+  const Vec3 dx = pair.dx;
+  const double d = norm(dx);
+  const double ri = pair.ri, rj = pair.rj, radsum = ri + rj;
+  const double dn = d - radsum;
+  // Eqs 7-9 and 11, 14-16 for this pair.
+  const double r_eff = ri < rj ? ri : rj, r2 = r_eff * r_eff;
+  const double delta_e = radsum * c.strain_e;
+  const double delta_f = pair.delta_f;
+  // The four reciprocals the pair needs from one division (the divider, not the arithmetic, limited the
+  // vector loop): 1/a_m = (product of the others) / (product of all). Exact to a few ulp; the product
+  // stays far inside double range for any physical units (lengths within 1e+-70).
+  const double gap = delta_f > delta_e ? delta_f - delta_e : 1.0, df_safe = delta_f > 0.0 ? delta_f : 1.0;
+  const double p_dr = d * radsum, p_drg = p_dr * gap;
+  const double s_gf = gap * df_safe;
+  const double inv_all = 1.0 / (p_drg * df_safe);
+  const double inv_d = inv_all * (radsum * s_gf);
+  const double inv_rs = inv_all * (d * s_gf);
+  const double inv_gap = inv_all * (p_dr * df_safe);
+  const double inv_df = inv_all * p_drg;
+  const Vec3 n = inv_d * dx;
+  const double k_n = c.E * c.area_n * r2 * inv_rs;                               // eqs 7, 15
+  const double k_s = delta_f > delta_e ? k_n * delta_e * inv_gap : 0.0;          // softening slope, eq 3
+  const double f_max_t = c.area_t * r2 * c.sigma_t;                              // eqs 11, 16
+  const int on = dn <= (opt.adhesive ? delta_f : 0.0);
+
+  // Eq 3 (positive in tension) and the normal part of eq 2.
+  const double f_n = (opt.adhesive && dn > delta_e) ? k_s * (delta_f - dn) : k_n * dn;
+  const Vec3 v_rel = pair.v_rel;
+  const double v_n = dot(v_rel, n);
+  const double f_normal = on ? -(f_n + pair.c_n * v_n) : 0.0;
+
+  // Contact point velocity (arms a_i + a_j = d, the first particle's computed), tangential part.
+  const double a_first = d * (pair.i_first ? ri : rj) * inv_rs;
+  const double a_i = pair.i_first ? a_first : d - a_first, a_j = pair.i_first ? d - a_first : a_first;
+  const Vec3 spin = lincomb(a_i, pair.wi, a_j, pair.wj);
+  const Vec3 v_c = v_rel - cross(spin, n);
+  const Vec3 v_t = v_c - dot(v_c, n) * n;
+
+  // History: rotated into the tangent plane keeping its length, advanced (when updating), capped (eqs 4-5).
+  const Vec3 h0 = pair.history;
+  const double h2 = norm2(h0), hn = dot(h0, n);
+  const Vec3 hp = h0 - hn * n;
+  const double hp2 = norm2(hp);
+  const double keep = hp2 > 0.0 ? std::sqrt(h2 / (hp2 > 0.0 ? hp2 : 1.0)) : 1.0;
+  const Vec3 h = update_history ? lincomb(keep, hp, dt, v_t) : h0;
+  const double k_t = c.kt_over_kn * k_n;                                          // eq 8
+  const double share = (delta_f - dn) * inv_df;
+  const double cap = (share < 1.0 ? share : 1.0) * f_max_t;                       // eq 5
+  const double spring = k_t * norm(h);
+  const double slide = spring > cap ? cap / (spring > 0.0 ? spring : 1.0) : 1.0;  // eq 4
+  const double tangential = opt.tangential ? 1.0 : 0.0;
+  const double live = on ? tangential : 0.0;
+  const double k_ts = -live * k_t * slide, c_ts = -live * c.ct_over_cn * pair.c_n;  // eq 13: c_T/c_N
+  const Vec3 f_t = lincomb(k_ts, h, c_ts, v_t);
+  // Slid back to the cap when updating; gone when out of range or without tangential force.
+  CohesivePairResult out;
+  out.history = (live * (update_history ? slide : 1.0)) * h;
+  out.force = f_normal * n + f_t;
+  // Torques -a n x F_t on both particles (j sees -n and -F_t).
+  const Vec3 arm = cross(n, f_t);
+  out.torque = -a_i * arm;
+  out.torque_j = -a_j * arm;
+  out.delta_n = dn;
+  out.interacting = on;
+  return out;
 }
 
 /// Potential of eq 3, zero for separated pairs: U(dN) = -integral of F_N from dN up to delta_f.
@@ -58,76 +149,16 @@ inline double cohesive_normal_energy(const CohesivePairParams& p, double delta_n
   return -0.5 * p.k_n * p.delta_e / (p.delta_f - p.delta_e) * g * g;
 }
 
-/// Rescaled maximum tangential force of eq 5.
-inline double cohesive_max_tangential_force(const CohesivePairParams& p, double delta_n) {
-  const double f = (p.delta_f - delta_n) / p.delta_f;
-  return (f < 1.0 ? f : 1.0) * p.f_max_t;
-}
-
-/// Eqs 2-5 for the pair (i, j). dx = minimum image of x_i - x_j. `history` is this pair's tangential
-/// displacement as seen from i; it is advanced by one step when update_history is set (every step but
-/// the set-up force evaluation), and reset when the pair is out of range.
-inline CohesivePairResult cohesive_pair_force(const CohesivePairParams& p, const CohesiveOptions& opt, Vec3 dx,
-                                              double ri, double rj, Vec3 vi, Vec3 vj, Vec3 wi, Vec3 wj,
-                                              Vec3& history, double dt, int update_history) {
-  CohesivePairResult out{};
-  const double d = norm(dx);
-  out.delta_n = d - ri - rj;
-  const double reach = opt.adhesive ? p.delta_f : 0.0;
-  if (out.delta_n > reach) {
-    history = Vec3{};
-    return out;
-  }
-  out.interacting = 1;
-  const Vec3 n = (1.0 / d) * dx;
-
-  // Normal part of eq 2.
-  const Vec3 v_rel = vi - vj;
-  const double v_n = dot(v_rel, n);
-  const double f_n = cohesive_normal_force(p, out.delta_n);
-  out.force = -(f_n + p.c_n * v_n) * n;
-  if (!opt.tangential) {
-    history = Vec3{};
-    return out;
-  }
-
-  // Relative velocity of the two material points at the contact point, tangential part.
-  const double a_i = d * ri / (ri + rj), a_j = d * rj / (ri + rj);
-  const Vec3 v_c = v_rel - cross(a_i * wi + a_j * wj, n);
-  const Vec3 v_t = v_c - dot(v_c, n) * n;
-
-  // Tangential history: rotate into the current tangent plane keeping its length, then add this step.
-  Vec3 h = history;
-  const double cap = cohesive_max_tangential_force(p, out.delta_n);
-  if (update_history) {
-    const double h2 = norm2(h);
-    if (h2 > 0.0) {
-      h = h - dot(h, n) * n;
-      const double hp2 = norm2(h);
-      if (hp2 > 0.0) h = std::sqrt(h2 / hp2) * h;
-    }
-    h += dt * v_t;
-    const double spring = p.k_t * norm(h);
-    if (spring > cap) h = (cap / spring) * h;  // eq 4: the spring slides at F'_mT
-    history = h;
-  }
-  // Eq 4 as a min, so that the set-up evaluation (no update) obeys the cap too.
-  const double spring = p.k_t * norm(h);
-  const double scale = spring > cap ? cap / spring : 1.0;
-  const Vec3 f_t = -(scale * p.k_t) * h - p.c_t * v_t;
-  out.force += f_t;
-  out.torque = -a_i * cross(n, f_t);
-  return out;
-}
-
-/// Elastic energy stored in one pair (normal potential plus tangential spring), for diagnostics.
+/// Elastic energy stored in one pair (normal potential plus tangential spring, capped by eq 5), for
+/// diagnostics.
 inline double cohesive_pair_energy(const CohesivePairParams& p, const CohesiveOptions& opt, double delta_n,
                                    Vec3 history) {
   const double reach = opt.adhesive ? p.delta_f : 0.0;
   if (delta_n > reach) return 0.0;
   double u = opt.adhesive ? cohesive_normal_energy(p, delta_n) : 0.5 * p.k_n * delta_n * delta_n;
   if (opt.tangential) {
-    const double cap = cohesive_max_tangential_force(p, delta_n);
+    const double share = (p.delta_f - delta_n) / p.delta_f;
+    const double cap = (share < 1.0 ? share : 1.0) * p.f_max_t;
     const double h = norm(history);
     const double hh = p.k_t * h > cap ? cap / p.k_t : h;
     u += 0.5 * p.k_t * hh * hh;

@@ -1,6 +1,5 @@
 #include "kernels/dem/cohesive_pair_table.hpp"
 
-#include <cmath>
 
 #include "core/exec.hpp"
 #include "core/neighbor_list.hpp"
@@ -13,8 +12,6 @@ void CohesivePairTable::build(const CohesiveCoefficients& c, const Particles& p,
   resize_for_overwrite(delta_f, static_cast<std::size_t>(list.entries()));
   resize_for_overwrite(c_n, static_cast<std::size_t>(list.entries()));
   coefficients = c;
-  kt_over_kn = c.area_t / c.area_n;
-  ct_over_cn = std::sqrt(kt_over_kn);
   const int n = list.rows();
   const int* offset = list.offset().data();
   const int* index = list.index().data();

@@ -22,8 +22,6 @@ struct CohesivePairTable {
   exec::DeviceVector<double> delta_f;   // eq 10, per neighbour-list entry
   exec::DeviceVector<double> c_n;       // eq 12 (normal damping coefficient), per entry
   CohesiveCoefficients coefficients{};  // the material constants of eqs 7-18
-  double kt_over_kn = 0;                // k_T / k_N = A_T / A_N, the same for every pair (eqs 7-8, 15-16)
-  double ct_over_cn = 0;                // c_T / c_N = sqrt(k_T / k_N) (eqs 12-13)
 
   void build(const CohesiveCoefficients& c, const Particles& p, const NeighborList& list);
   std::size_t bytes() const { return sizeof(double) * (delta_f.capacity() + c_n.capacity()); }

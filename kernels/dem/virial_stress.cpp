@@ -39,10 +39,9 @@ inline StressTensor particle_virial(int i, int half, const int* sel, const int* 
     if (share == 0.0) continue;
     const Vec3 dx = minimum_image(b, xi - Vec3{x[j], y[j], z[j]});
     const CohesivePairParams pp = cohesive_pair_params(coef, ri, radius[j], mi, mass[j]);
-    Vec3 h{hx[k], hy[k], hz[k]};
-    const Vec3 f = cohesive_pair_force(pp, opt, dx, ri, radius[j], vi, Vec3{vx[j], vy[j], vz[j]}, wi,
-                                       Vec3{wx[j], wy[j], wz[j]}, h, 0.0, 0)
-                       .force;
+    const CohesivePair pair{dx, ri, radius[j], pp.delta_f, pp.c_n, vi - Vec3{vx[j], vy[j], vz[j]}, wi,
+                            Vec3{wx[j], wy[j], wz[j]}, Vec3{hx[k], hy[k], hz[k]}, i < j};
+    const Vec3 f = cohesive_pair_force(coef, opt, pair, 0.0, 0).force;  // the history is not advanced
     w.xx -= share * dx.x * f.x;
     w.yy -= share * dx.y * f.y;
     w.zz -= share * dx.z * f.z;

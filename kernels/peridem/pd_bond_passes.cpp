@@ -396,14 +396,6 @@ void run_bond_force(const RowInputs& host) {
 
 }  // namespace
 
-long pd_break_bonds_pass(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds,
-                         const PdNodes& nodes) {
-  RowInputs in = row_inputs(lps, grains, bonds, nodes);
-  in.broken = bonds.broken.data();
-  in.do_break = 1;
-  return run_break_and_dilate(in) / 2;  // both ends broke: one bond, two entries
-}
-
 void pd_dilatation_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                         PdNodes& nodes) {
   RowInputs in = row_inputs_with_outputs(lps, grains, bonds, nodes);
@@ -528,28 +520,21 @@ void pd_energy_density_pass(const PdLpsTable& lps, const PdGrains& grains, const
 
 double pd_elastic_energy(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                          const PdNodes& nodes) {
-  const BondView b = view(lps, grains, bonds, nodes);
-  const int n = b.n;
-  const int *offset = b.offset, *partner = b.partner, *grain = b.grain, *material = b.material;
-  const double* length0 = b.length0;
-  const PdLpsConstants* table = b.lps;
-  const unsigned char* broken = bonds.broken.data();
-  const double *x = nodes.x.data(), *y = nodes.y.data(), *z = nodes.z.data();
-  const double *volume = nodes.volume.data(), *m = nodes.weighted_volume.data(), *theta = nodes.theta.data();
+  const int n = static_cast<int>(nodes.size());
+  exec::DeviceVector<double> density(static_cast<std::size_t>(n));  // W_i; 0 for nodes without bonds
+  pd_energy_density_pass(lps, grains, bonds, nodes, density.data());
+  const double* volume = nodes.volume.data();
+  const double* w = density.data();
   // Fixed-order blocks of nodes (core/block_sums.hpp): the same bits on any thread count.
   const int blocks = sum_blocks(n);
   BlockPartials partials;
   double* part = partials.reserve(static_cast<std::size_t>(blocks));
-  DEBRIS_RESIDENT(offset, partner, grain, material, length0, table, broken, x, y, z, volume, m, theta, part);
+  DEBRIS_RESIDENT(volume, w, part);
   DEBRIS_KERNEL
   for (int b = 0; b < blocks; ++b) {
     double energy = 0.0;
     const BlockRange r = block_range(b, n);
-    for (int i = r.begin; i < r.end; ++i) {
-      if (offset[i] == offset[i + 1]) continue;
-      energy += volume[i] * node_energy_density(i, offset, partner, length0, broken, table[material[grain[i]]], x, y,
-                                                z, volume, m, theta);
-    }
+    for (int i = r.begin; i < r.end; ++i) energy += volume[i] * w[i];
     part[b] = energy;
   }
   partials.to_host(static_cast<std::size_t>(blocks));

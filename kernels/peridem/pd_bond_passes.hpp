@@ -4,12 +4,11 @@
 // (and the row's own entries), with no atomics: the results are bitwise the same for any thread count.
 // The force needs theta at both ends of every bond, so dilatation and force are separate passes. One step:
 //
-//   pd_break_bonds_pass    h of eq 11 from the current stretch; returns the bonds broken now
-//   pd_dilatation_pass     theta_i of eqs 13/34 over the intact bonds
-//   pd_bond_force_pass     f_i += V_i F_i, F_i of eq 33 (force density; PdNodes stores newtons)
-//
-// pd_bond_step does the same in two sweeps over the bonds: break + dilatation (row i breaks its own entries,
-// then sums the intact ones: what the separate passes give, bit for bit), then the force.
+//   pd_bond_step           h of eq 11 from the current stretch, theta_i of eqs 13/34 over the intact bonds
+//                          (row i breaks its own entries, then sums the intact ones), then
+//                          f_i += V_i F_i, F_i of eq 33 (force density; PdNodes stores newtons)
+//   pd_dilatation_pass     theta alone, and pd_bond_force_pass the force alone, for fixed bond states
+//                          (the stable step of eq 32 probes the stiffness with them)
 // pd_weighted_volume_pass runs once, in the reference state.
 //
 // How they run (kernels/peridem/pd_bond_passes.cpp): rows are handed to the threads in blocks of equal bond entries;
@@ -43,12 +42,6 @@ class BondList;
 void pd_weighted_volume_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                              PdNodes& nodes);
 
-/// Eq 11: marks as broken, for ever, every intact bond whose current stretch is >= s_0. Both ends of a bond
-/// compute bitwise the same stretch, so they always agree. Returns the number of bonds (not entries) that
-/// broke in this call: the runner rebuilds the contact list when it is > 0 (broken bonds contact).
-long pd_break_bonds_pass(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds,
-                         const PdNodes& nodes);
-
 /// theta_i of eqs 13/34 from the current positions over the intact bonds (h = 0 for broken ones).
 void pd_dilatation_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                         PdNodes& nodes);
@@ -57,7 +50,10 @@ void pd_dilatation_pass(const PdLpsTable& lps, const PdGrains& grains, const Bon
 void pd_bond_force_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                         PdNodes& nodes);
 
-/// Breaks bonds, then computes theta and adds the bond forces. Returns the bonds broken in this step.
+/// Eq 11, then theta and the bond forces: marks as broken, for ever, every intact bond whose current stretch
+/// is >= s_0 (both ends of a bond compute bitwise the same stretch, so they always agree), then computes
+/// theta over the intact bonds and adds their forces. Returns the number of bonds (not entries) that broke
+/// in this step: the runner rebuilds the contact list when it is > 0 (broken bonds contact).
 long pd_bond_step(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds, PdNodes& nodes);
 
 /// Damage Z_i (eq 14) into nodes.damage: the largest |s| / s_0 over all bonds of i, broken or not.
@@ -69,7 +65,8 @@ long pd_bond_step(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds
 void pd_damage_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                     PdNodes& nodes, double* broken_fraction = nullptr);
 
-/// LPS energy density W_i (header of pd_material.hpp) of every node into `energy_density` (size nodes.size()),
+/// LPS energy density W_i (header of pd_material.hpp) of every node into `energy_density` (size nodes.size(); 0
+/// for nodes without bonds; pd_elastic_energy sums V_i W_i of it),
 /// from the current positions and the theta column (run pd_dilatation_pass first).
 void pd_energy_density_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                             const PdNodes& nodes, double* energy_density);

@@ -13,24 +13,6 @@ void pd_zero_forces(PdNodes& nodes) {
   for (int i = 0; i < n; ++i) fx[i] = fy[i] = fz[i] = 0.0;
 }
 
-void pd_gravity_pass(PdNodes& nodes, const PdGrains& grains, Vec3 g) {
-  const int n = static_cast<int>(nodes.size());
-  const double* __restrict mass = nodes.mass.data();
-  const int* __restrict grain = nodes.grain.data();
-  const int* __restrict kind = grains.kind.data();
-  double* __restrict fx = nodes.fx.data(), *__restrict fy = nodes.fy.data(), *__restrict fz = nodes.fz.data();
-  const double gx = g.x, gy = g.y, gz = g.z;
-  const int wall = static_cast<int>(PdGrainKind::wall);
-  DEBRIS_RESIDENT(mass, grain, kind, fx, fy, fz);
-  DEBRIS_KERNEL
-  for (int i = 0; i < n; ++i) {
-    if (kind[grain[i]] == wall) continue;
-    fx[i] += mass[i] * gx;
-    fy[i] += mass[i] * gy;
-    fz[i] += mass[i] * gz;
-  }
-}
-
 void pd_weight_forces(PdNodes& nodes, const PdGrains& grains, Vec3 g) {
   const int n = static_cast<int>(nodes.size());
   const double* __restrict mass = nodes.mass.data();
@@ -43,7 +25,7 @@ void pd_weight_forces(PdNodes& nodes, const PdGrains& grains, Vec3 g) {
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     const bool weighs = kind[grain[i]] != wall;
-    // 0.0 + m g, as zeroing then adding gives (a -0.0 weight component becomes +0.0).
+    // 0.0 + m g: a -0.0 weight component becomes +0.0, as zeroing then adding would give.
     fx[i] = weighs ? 0.0 + mass[i] * gx : 0.0;
     fy[i] = weighs ? 0.0 + mass[i] * gy : 0.0;
     fz[i] = weighs ? 0.0 + mass[i] * gz : 0.0;

@@ -16,15 +16,11 @@ namespace debris {
 class PdNodes;
 struct PdGrains;
 
-/// Sets every node force to zero (start of a step's force passes).
+/// Sets every node force to zero.
 void pd_zero_forces(PdNodes& nodes);
 
-/// Body force rho g V = m g on the nodes of particle grains (walls move as prescribed; keeping gravity off
-/// their nodes keeps their force the pure contact reaction).
-void pd_gravity_pass(PdNodes& nodes, const PdGrains& grains, Vec3 g);
-
-/// The first force of a step in one sweep: each grain node's weight, zero on walls (the same bits as
-/// pd_zero_forces then pd_gravity_pass, one parallel region fewer per step).
+/// The first force of a step: the body force rho g V = m g on the nodes of particle grains, zero on walls
+/// (walls move as prescribed; keeping gravity off their nodes keeps their force the pure contact reaction).
 void pd_weight_forces(PdNodes& nodes, const PdGrains& grains, Vec3 g);
 
 /// Global viscous damping: f -= c m v on particle nodes, with the stored v (half a step behind), so a free
