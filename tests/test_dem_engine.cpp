@@ -15,9 +15,15 @@
 #include "core/lattice.hpp"
 #include "kernels/dem/integrate.hpp"
 #include "scenarios/common/dem/dem_simulation.hpp"
+#include "tests/dem_sheared_sample.hpp"
 
 namespace debris {
 namespace {
+
+using test::fcc_spec;
+using test::run_sheared;
+using test::shear_walls;
+using test::Snapshot;
 
 CohesiveMaterial table4(double eta = 0.95, double s = 0.0) {
   CohesiveMaterial m = table4_material(s);
@@ -94,18 +100,6 @@ TEST(DemEngine, StabilityAtTheCriticalTimeStep) {
   EXPECT_LT(amplitude_after(0.99, false), 0.1);  // bounded (the ellipse stretches near dt_c, < 10x)
   EXPECT_GT(amplitude_after(1.01, true), 1.0);   // grows by ~1.33 per step
   EXPECT_THROW(amplitude_after(1.01, false), InputError);
-}
-
-LatticeSpec fcc_spec(std::array<int, 3> cells, double spread = 0.0, double disp = 0.0) {
-  LatticeSpec l;
-  l.kind = LatticeKind::fcc;
-  l.spacing = 100;
-  l.diameter = 100;
-  l.size_spread = spread;
-  l.displacement = disp;
-  l.cells = cells;
-  l.seed = 3;
-  return l;
 }
 
 void random_velocities(Particles& p, double amplitude, std::uint64_t seed) {
@@ -201,49 +195,6 @@ TEST(DemEngine, MomentumAndAngularMomentumAreConserved) {
   EXPECT_LT(t1.kinetic_energy, t0.kinetic_energy);  // damping and sliding dissipate
 }
 
-// A frozen bottom wall and a top wall driven at `velocity`, each 80 thick, on a sample spanning the box in y.
-Groups shear_walls(Particles& p, const Box& box, Vec3 velocity) {
-  Groups g;
-  Group top{"top", GroupMotion::velocity};
-  top.velocity = velocity;
-  const int gt = g.add(top), gb = g.add(Group{"bottom", GroupMotion::frozen});
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (p.y[i] > box.hi().y - 80) p.group[i] = gt;
-    if (p.y[i] < box.lo().y + 80) p.group[i] = gb;
-  }
-  return g;
-}
-
-// Runs a sheared periodic FCC sample for `steps` and returns forces, torques and velocities by id.
-struct Snapshot {
-  std::map<std::int64_t, std::array<double, 9>> by_id;
-};
-// threads = 0: the count changes every few steps (1, then 2, ...), as the thread tuner may change it.
-Snapshot run_sheared(Particles p, Box box, int steps, int threads, PairPass pass = PairPass::automatic) {
-  exec::set_threads(threads > 0 ? threads : 1);
-  const Groups g = shear_walls(p, box, {0.02, 0, 0});
-  DemSettings s;
-  s.material = table4(0.9);
-  s.time_step_fraction = 0.1;
-  s.global_damping = 0.05;
-  s.pair_pass = pass;
-  DemSimulation sim(box, std::move(p), g, s);
-  if (threads > 0) {
-    sim.run(steps);
-  } else {
-    for (int k = 0; k < steps; ++k) {
-      exec::set_threads(1 + (k / 7) % 2);
-      sim.step();
-    }
-  }
-  Snapshot snap;
-  const Particles& q = sim.particles();
-  for (std::size_t i = 0; i < q.size(); ++i)
-    snap.by_id[q.id[i]] = {q.fx[i], q.fy[i], q.fz[i], q.tx[i], q.ty[i], q.tz[i], q.vx[i], q.vy[i], q.vz[i]};
-  exec::set_threads(2);
-  return snap;
-}
-
 // Both contact passes sum each particle's pairs in one fixed order whatever the thread count (full list:
 // its row; half list: its own pairs, then those where it is the partner): bit for bit on 1 and 2 threads.
 TEST(DemEngine, SameResultsWithOneAndTwoThreads) {
@@ -268,91 +219,6 @@ TEST(DemEngine, ThreadCountChangedBetweenStepsGivesTheSameBits) {
     for (const auto& [id, va] : a.by_id)
       for (int k = 0; k < 9; ++k)
         ASSERT_EQ(va[k], b.by_id.at(id)[k]) << "id " << id << " component " << k << " pass " << int(pass);
-  }
-}
-
-// The host half-list pass and the full-list reference pass are the same physics: forces, torques and
-// velocities agree to round-off after hundreds of sheared steps with damping, sliding and breaking.
-TEST(DemEngine, HalfListPassEqualsFullListPass) {
-  Lattice lat = make_lattice(fcc_spec({4, 3, 3}, 0.04, 1.0));
-  Box box(lat.box.lo(), lat.box.hi(), {true, false, true});
-  const Snapshot full = run_sheared(lat.particles, box, 400, 2, PairPass::full);
-  const Snapshot half = run_sheared(lat.particles, box, 400, 2, PairPass::half);
-  double fmax = 0, tmax = 0, vmax = 0;
-  for (const auto& [id, v] : full.by_id) {
-    fmax = std::max({fmax, std::abs(v[0]), std::abs(v[1]), std::abs(v[2])});
-    tmax = std::max({tmax, std::abs(v[3]), std::abs(v[4]), std::abs(v[5])});
-    vmax = std::max({vmax, std::abs(v[6]), std::abs(v[7]), std::abs(v[8])});
-  }
-  ASSERT_GT(tmax, 0.0);
-  for (const auto& [id, vf] : full.by_id) {
-    const auto& vh = half.by_id.at(id);
-    for (int k = 0; k < 3; ++k) ASSERT_NEAR(vf[k], vh[k], 1e-9 * fmax) << "force, id " << id;
-    for (int k = 3; k < 6; ++k) ASSERT_NEAR(vf[k], vh[k], 1e-9 * tmax) << "torque, id " << id;
-    for (int k = 6; k < 9; ++k) ASSERT_NEAR(vf[k], vh[k], 1e-9 * vmax) << "velocity, id " << id;
-  }
-}
-
-// The same two checks on a sample wide enough for size classes in the neighbour search (every third
-// particle between the walls shrunk to d = 45: size ratio 2.3): bit for bit on 1 and 2 threads, and the
-// half-list pass equal to the full-list pass.
-TEST(DemEngine, SizeClassesSameOnOneAndTwoThreadsAndHalfEqualsFull) {
-  Lattice lat = make_lattice(fcc_spec({4, 3, 3}, 0.04, 1.0));
-  Box box(lat.box.lo(), lat.box.hi(), {true, false, true});
-  Particles& p = lat.particles;
-  for (std::size_t i = 0; i < p.size(); i += 3)
-    if (p.y[i] > box.lo().y + 80 && p.y[i] < box.hi().y - 80) p.radius[i] = 22.5;
-  const Snapshot one = run_sheared(p, box, 400, 1, PairPass::half);
-  const Snapshot two = run_sheared(p, box, 400, 2, PairPass::half);
-  const Snapshot full = run_sheared(p, box, 400, 2, PairPass::full);
-  double vmax = 0;
-  for (const auto& [id, v] : full.by_id) vmax = std::max({vmax, std::abs(v[6]), std::abs(v[7]), std::abs(v[8])});
-  ASSERT_GT(vmax, 0.0);
-  for (const auto& [id, va] : one.by_id) {
-    for (int k = 0; k < 9; ++k) ASSERT_EQ(va[k], two.by_id.at(id)[k]) << "id " << id << " component " << k;
-    for (int k = 6; k < 9; ++k) ASSERT_NEAR(va[k], full.by_id.at(id)[k], 1e-9 * vmax) << "velocity, id " << id;
-  }
-}
-
-// The virial stress reads the history as the pass in use keeps it: from a half list (each pair once, both
-// ends credited) it equals the one from a full list, over all particles and over a selected slab.
-TEST(DemEngine, VirialStressIsTheSameFromHalfAndFullLists) {
-  Lattice lat = make_lattice(fcc_spec({4, 3, 3}, 0.04, 1.0));
-  Box box(lat.box.lo(), lat.box.hi(), {true, false, true});
-  exec::set_threads(2);
-  std::array<StressTensor, 2> all, slab;
-  const PairPass passes[2] = {PairPass::full, PairPass::half};
-  for (int k = 0; k < 2; ++k) {
-    Particles p = lat.particles;
-    const Groups g = shear_walls(p, box, {0.02, 0, 0});
-    DemSettings s;
-    s.material = table4(0.9);
-    s.global_damping = 0.05;
-    s.pair_pass = passes[k];
-    DemSimulation sim(box, std::move(p), g, s);
-    sim.run(400);
-    ASSERT_EQ(sim.pair_pass(), passes[k]);
-    const Particles& q = sim.particles();
-    std::vector<int> mid(q.size());
-    const double yc = 0.5 * (box.lo().y + box.hi().y);
-    for (std::size_t i = 0; i < q.size(); ++i) mid[i] = std::abs(q.y[i] - yc) < 100 ? 1 : 0;
-    all[k] = sim.virial_stress(nullptr, 1.0);
-    slab[k] = sim.virial_stress(mid.data(), 1.0);
-    // Fixed-order sums: the same bits on one thread (the amorphous relaxation feeds this into the box).
-    exec::set_threads(1);
-    const StressTensor one = sim.virial_stress(mid.data(), 1.0);
-    exec::set_threads(2);
-    EXPECT_EQ(one.xx, slab[k].xx);
-    EXPECT_EQ(one.xy, slab[k].xy);
-    EXPECT_EQ(one.yz, slab[k].yz);
-  }
-  for (const auto* t : {&all, &slab}) {
-    const StressTensor &f = (*t)[0], &h = (*t)[1];
-    const double scale = std::max({std::abs(f.xx), std::abs(f.yy), std::abs(f.zz), std::abs(f.xy)});
-    ASSERT_GT(std::abs(f.xy), 0.0);  // the shear is really there
-    for (auto m : {&StressTensor::xx, &StressTensor::yy, &StressTensor::zz, &StressTensor::xy, &StressTensor::xz,
-                   &StressTensor::yz})
-      EXPECT_NEAR(f.*m, h.*m, 1e-9 * scale);
   }
 }
 
