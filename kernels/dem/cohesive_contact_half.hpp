@@ -10,7 +10,7 @@
 //      in increasing pair order.
 // No atomics, and the sum order does not depend on the thread count, so results are the same bit for bit
 // on 1 or 2 threads. Host threads only: the full-list pass (kernels/dem/cohesive_contact.hpp) is the GPU path,
-// and the reference this one is tested against.
+// and the reference this one is tested against; both evaluate each pair with cohesive_pair_force.
 #include <vector>
 
 #include "core/box.hpp"

@@ -68,8 +68,8 @@ DEBRIS_DECLARE_TARGET
 
 /// Eqs 2-5 for one pair. The pair's tangential displacement is advanced by one step when update_history is
 /// set (every step but the set-up force evaluation), rescaled when it slides, and zeroed when the pair is
-/// out of range or has no tangential force. Everything by value: in an `omp simd` loop an object whose
-/// address is taken becomes a per-lane array, and the loop no longer vectorises.
+/// out of range or has no tangential force. Values in, values out (the history travels in `pair` and comes
+/// back in the result): nothing in the calling vector loop has its address taken.
 DEBRIS_ALWAYS_INLINE CohesivePairResult cohesive_pair_force(const CohesiveCoefficients& c,
                                                             const CohesiveOptions& opt, CohesivePair pair,
                                                             double dt, int update_history) {
