@@ -127,17 +127,13 @@ DEBRIS_ALWAYS_INLINE CohesivePairResult cohesive_pair_force(const CohesiveCoeffi
   const double live = on ? tangential : 0.0;
   const double k_ts = -live * k_t * slide, c_ts = -live * c.ct_over_cn * pair.c_n;  // eq 13: c_T/c_N
   const Vec3 f_t = lincomb(k_ts, h, c_ts, v_t);
-  // Slid back to the cap when updating; gone when out of range or without tangential force.
-  CohesivePairResult out;
-  out.history = (live * (update_history ? slide : 1.0)) * h;
-  out.force = f_normal * n + f_t;
   // Torques -a n x F_t on both particles (j sees -n and -F_t).
   const Vec3 arm = cross(n, f_t);
-  out.torque = -a_i * arm;
-  out.torque_j = -a_j * arm;
-  out.delta_n = dn;
-  out.interacting = on;
-  return out;
+  // Slid back to the cap when updating; gone when out of range or without tangential force.
+  const Vec3 history = (live * (update_history ? slide : 1.0)) * h;
+  // Aggregate initialisation, not a default-constructed result filled in: clang's offload build left the
+  // implicit constructor undefined in the host clones of the half-list pass.
+  return CohesivePairResult{f_normal * n + f_t, -a_i * arm, -a_j * arm, history, dn, on};
 }
 
 /// Potential of eq 3, zero for separated pairs: U(dN) = -integral of F_N from dN up to delta_f.
