@@ -167,6 +167,47 @@ TEST(DeviceResidency, DemRunOnTheDeviceEqualsHostFallback) {
 
 // The executable: thermo rows, dump frames and the checkpoint come from the device's state through the
 // runner's transfer points; the same input on the initial device (OMP_DEFAULT_DEVICE) must give the same files.
+// Bytes per step the runner reports between host and device, outputs and sampled checks left out.
+double transfers_per_step(const std::string& output) {
+  const std::string key = "device transfers while stepping: ";
+  const std::size_t at = output.find(key);
+  if (at == std::string::npos) return -1.0;
+  return std::stod(output.substr(at + key.size()));
+}
+
+// Through the runner, the steps of both executables on their default inputs move only scalars, block sums
+// and group views between host and device, never the particle or node state (1,600 particles of 24 columns
+// would be 282 KB per step; the progress line once asked for the particles' host copy every step).
+TEST(DeviceResidency, ExecutableStepsMoveNoStateBetweenHostAndDevice) {
+  if (!device_with_own_memory()) GTEST_SKIP() << kNoDevice;
+  const fs::path d = test::fresh_directory("debris_device_transfers");
+  const std::string source = DEBRIS_SOURCE_DIR;
+  const std::string dem = test::replace(
+      test::replace(test::slurp(fs::path(source) / "scenarios/dem/default.yaml"), "steps: 4000", "steps: 600"),
+      "directory: out/dem_default", "directory: " + (d / "dem").string());
+  ASSERT_NE(dem.find("steps: 600"), std::string::npos);
+  const test::CommandResult a =
+      test::run_command(DEBRIS_DEM_EXECUTABLE, "-i " + test::write_text_file(d, "dem.yaml", dem));
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  const double dem_bytes = transfers_per_step(a.output);
+  ASSERT_GE(dem_bytes, 0.0) << a.output;
+  EXPECT_LT(dem_bytes, 4096.0) << a.output;
+  std::string pd = test::slurp(fs::path(source) / "scenarios/peridem/compressive_small.yaml");
+  for (std::size_t at = pd.find("file: data/"); at != std::string::npos; at = pd.find("file: data/", at + 1))
+    pd.replace(at, 11, "file: " + source + "/scenarios/peridem/data/");
+  pd = test::replace(test::replace(pd, "steps: 20000", "steps: 600"), "directory: out/peridem_compressive_small",
+                     "directory: " + (d / "peridem").string());
+  ASSERT_NE(pd.find("steps: 600"), std::string::npos);
+  ASSERT_EQ(pd.find("file: data/"), std::string::npos);
+  const test::CommandResult b =
+      test::run_command(DEBRIS_PERIDEM_EXECUTABLE, "-i " + test::write_text_file(d, "peridem.yaml", pd));
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  const double pd_bytes = transfers_per_step(b.output);
+  ASSERT_GE(pd_bytes, 0.0) << b.output;
+  EXPECT_LT(pd_bytes, 4096.0) << b.output;
+  std::cout << "bytes per step: debris_dem " << dem_bytes << ", debris_peridem " << pd_bytes << "\n";
+}
+
 TEST(DeviceResidency, DemExecutableOutputEqualsHostFallback) {
   if (!device_with_own_memory()) GTEST_SKIP() << kNoDevice;
   const fs::path d = test::fresh_directory("debris_device_dem_cli");

@@ -121,7 +121,7 @@ class DemRunModel final : public RunModel {
     sim_.step();
     if (wear_ && sim_.step_count() % cfg_.wear->every == 0) sample_wear();
   }
-  std::size_t items() const override { return sim_.particles().size(); }
+  std::size_t items() const override { return sim_.particle_count(); }  // every step: no transfer
   const char* item_name() const override { return "particle"; }
 
   std::string setup_key() const override { return "particles"; }
@@ -305,5 +305,5 @@ RunPlan prepare(const RunOptions& opt) {
 int main(int argc, char** argv) {
   return debris::run_main(argc, argv, "debris_dem",
                           "debris_dem: cohesive coarse-grained DEM (Pham-Ba & Molinari) on host threads or a GPU",
-                          prepare);
+                          "./build/bin/debris_dem -i scenarios/dem/default.yaml -o out/dem_default", prepare);
 }

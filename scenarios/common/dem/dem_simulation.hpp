@@ -75,6 +75,8 @@ class DemSimulation {
   // State.
   const Box& box() const { return box_; }
   Box& box() { return box_; }
+  /// The number of particles, without a transfer (the progress line asks every step).
+  std::size_t particle_count() const { return p_.size(); }
   /// The host copy, current (offload builds: copied back from the device if a step changed it).
   const Particles& particles() const {
     particles_to_host();

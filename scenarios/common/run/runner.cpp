@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/exec.hpp"
 #include "core/pass_timer.hpp"
 #include "core/exit_status.hpp"
 #include "core/io/input.hpp"
@@ -137,7 +138,15 @@ int run_plan(RunPlan& plan, const std::string& program, const RunOptions& opt, C
     if (plan.restored) begin_stage(first_step);
     Progress progress(first_step, last_step, std::cout, plan.progress_seconds);
     exec::ThreadTuner* tuner = exec::process_tuner();  // the simulations' steps feed it (exec::TunedStep)
+    // Offload builds: host <-> device bytes of the steps themselves, outputs and sampled checks left out (they
+    // copy on purpose): a step should move only scalars, block sums and group views, never the state.
+    double step_bytes = 0.0;
+    auto moved_bytes = [] {
+      const exec::TransferStats t = exec::transfer_stats();
+      return t.to_host_bytes + t.to_device_bytes;
+    };
     while (model.step_count() < last_step) {
+      const double moved_before = moved_bytes();
       model.step();
       if (tuner)
         for (const std::string& m : tuner->take_messages())
@@ -145,6 +154,7 @@ int run_plan(RunPlan& plan, const std::string& program, const RunOptions& opt, C
       const long step = model.step_count();
       const bool final_step = step == last_step;
       if (const std::string problem = model.step_check(); !problem.empty()) return stop(problem);
+      step_bytes += moved_bytes() - moved_before;
       if (final_step || due(plan.thermo_every, step) || model.frame_due(step) || due(plan.checkpoint_every, step) ||
           stage_starts(step) > 0) {
         const std::string problem = model.health_check();
@@ -152,7 +162,9 @@ int run_plan(RunPlan& plan, const std::string& program, const RunOptions& opt, C
       }
       write_outputs(final_step);
       begin_stage(step);
+      const double moved_progress = moved_bytes();
       progress.update(step, model.items());
+      step_bytes += moved_bytes() - moved_progress;
     }
 
     const std::string report = model.closing_report();
@@ -183,6 +195,9 @@ int run_plan(RunPlan& plan, const std::string& program, const RunOptions& opt, C
     rate << std::setprecision(3) << (stepping > 0 ? static_cast<double>(model.items()) * steps / stepping / 1e6 : 0.0)
          << " M " << model.item_name() << "-steps/s while stepping";
     line("total", wall, rate.str());
+    if constexpr (exec::offload_build())
+      std::cout << "device transfers while stepping: " << std::setprecision(6)
+                << (steps > 0 ? step_bytes / steps : 0.0) << " B per step (outputs and checks left out)\n";
     std::cout << "output written to " << dir.string() << "/ (thermo.csv, " << model.frame_files(suffix)
               << ", checkpoint.h5)\n";
     return 0;
@@ -228,8 +243,9 @@ InputSource input_source(const RunOptions& options, const std::string& checkpoin
 }
 
 int run_main(int argc, char** argv, const std::string& program, const std::string& description,
-             const std::function<RunPlan(const RunOptions&)>& prepare) {
+             const std::string& example, const std::function<RunPlan(const RunOptions&)>& prepare) {
   CLI::App app{description};
+  app.footer("Example, from the repository root:\n  " + example);
   RunOptions opt;
   app.add_option("-i,--input", opt.input, "YAML input file");
   app.add_option("-o,--output", opt.output, "output directory (overrides output.directory)");
