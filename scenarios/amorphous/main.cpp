@@ -213,6 +213,8 @@ int main(int argc, char** argv) {
   app.add_option("-o,--output", opt.output, "output directory (overrides output.directory)");
   app.add_option("--threads", opt.threads, "number of host threads (overrides run.threads)")
       ->check(CLI::NonNegativeNumber);
+  app.footer("Example, from the repository root (one relaxed sample, about a minute):\n"
+             "  ./build/bin/debris_amorphous -i scenarios/amorphous/default.yaml -o out/amorphous_default");
   if (const int status = debris::parse_command_line(app, argc, argv); status >= 0) return status;
   return debris::exit_status_of("debris_amorphous", [&] { return run(opt); });
 }

@@ -181,6 +181,8 @@ int main(int argc, char** argv) {
   app.add_option("-i,--input", opt.input, "YAML input file")->required();
   app.add_option("-o,--output", opt.output, "output directory (overrides output.directory)");
   app.add_option("--threads", opt.threads, "number of host threads (overrides threads)")->check(CLI::NonNegativeNumber);
+  app.footer("Example, from the repository root (the elastic patch test over nu, about a minute):\n"
+             "  ./build/bin/debris_patch -i scenarios/patch/elastic_nu_sweep.yaml -o out/patch_elastic");
   if (const int status = debris::parse_command_line(app, argc, argv); status >= 0) return status;
   return debris::exit_status_of("debris_patch", [&] { return run(opt); });
 }

@@ -302,5 +302,7 @@ RunPlan prepare(const RunOptions& opt) {
 int main(int argc, char** argv) {
   return debris::run_main(
       argc, argv, "debris_peridem",
-      "debris_peridem: PeriDEM (peridynamic grains with DEM contact, paper B) on host threads or a GPU", prepare);
+      "debris_peridem: PeriDEM (peridynamic grains with DEM contact, paper B) on host threads or a GPU",
+      "./build/bin/debris_peridem -i scenarios/peridem/two_particle.yaml -o out/peridem_two_particle",
+      prepare);
 }

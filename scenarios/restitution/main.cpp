@@ -70,6 +70,8 @@ int main(int argc, char** argv) {
   app.add_option("-i,--input", input, "YAML input (cases)")->required();
   app.add_option("-o,--output", output, "output directory");
   app.add_option("--threads", threads, "OpenMP threads (0: default)");
+  app.footer("Example, from the repository root (Tables 2-3 of paper B, about a minute):\n"
+             "  ./build/bin/debris_restitution -i scenarios/restitution/tables.yaml -o out/restitution");
   if (const int status = debris::parse_command_line(app, argc, argv); status >= 0) return status;
   return debris::exit_status_of("debris_restitution", [&] { return run(input, output, threads); });
 }

@@ -138,8 +138,9 @@ void print_input_notes(std::ostream& out, const std::vector<std::string>& ignore
                        const std::vector<std::string>& plain_quantities);
 
 /// Parses the command line, calls `prepare` (reads the input or the checkpoint, chooses the threads,
-/// builds and validates the system; InputError for bad input), then runs. Returns the exit status.
+/// builds and validates the system; InputError for bad input), then runs. Returns the exit status. `example`
+/// (a command that works from the repository root) ends the --help text.
 int run_main(int argc, char** argv, const std::string& program, const std::string& description,
-             const std::function<RunPlan(const RunOptions&)>& prepare);
+             const std::string& example, const std::function<RunPlan(const RunOptions&)>& prepare);
 
 }  // namespace debris
