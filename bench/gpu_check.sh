@@ -68,7 +68,7 @@ fi
 
 export OMP_TARGET_OFFLOAD=MANDATORY
 say "where the kernels run"
-timeout 60 "$BUILD/bin/debris_dem" -i scenarios/dem/default.yaml -o "$OUT/dem_default" --threads 1 >"$OUT/dem_default.log" 2>&1 ||
+timeout 60 "$BUILD/bin/debris_dem" -i scenarios/dem/hcp_wall_load.yaml -o "$OUT/dem_default" --threads 1 >"$OUT/dem_default.log" 2>&1 ||
   { say "debris_dem failed on the device:"; tail -20 "$OUT/dem_default.log"; exit 1; }
 head -1 "$OUT/dem_default.log"
 grep -q "kernels run on $device_line" "$OUT/dem_default.log" || { say "kernels fell back to the host"; exit 1; }

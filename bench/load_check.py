@@ -83,7 +83,7 @@ def main():
     cases = []
     if args.only in (None, "dem"):
         cases.append(("debris_dem default.yaml (1,600 particles, 4,000 steps)",
-                      [str(bindir / "debris_dem"), "-i", str(ROOT / "scenarios/dem/default.yaml"),
+                      [str(bindir / "debris_dem"), "-i", str(ROOT / "scenarios/dem/hcp_wall_load.yaml"),
                        "-o", str(tmp / "dem")]))
     if args.only in (None, "peridem"):
         # The deck reads its meshes relative to itself: a copy beside a link to its data.

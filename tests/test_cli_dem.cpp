@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -230,10 +231,41 @@ TEST(DemCliHelp, HelpListsOptions) {
   for (const char* opt : {"--input", "--output", "--threads"}) EXPECT_NE(r.output.find(opt), std::string::npos) << opt;
 }
 
-TEST(DemCliDefault, DefaultInputRuns) {
+// The default input: the D = 10 nm, d0 = 6 nm junction of scenarios/wear with pictures. It ends with the
+// verdict scenarios/wear/RESULTS.md records for it (ductile), and names its pictures in its last lines.
+TEST(DemCliDefault, DefaultInputIsAShearedJunctionWithItsVerdictAndPictures) {
   const fs::path d = scratch("default");
-  const Result r = run_dem("-i " + std::string(DEBRIS_SOURCE_DIR) + "/scenarios/dem/default.yaml -o " + d.string() +
-                           " --threads 2");
+  const Result r = run_dem("-i " + std::string(DEBRIS_SOURCE_DIR) + "/scenarios/dem/default.yaml -o " + d.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("wear: verdict ductile"), std::string::npos) << r.output;
+  const std::string last_lines = r.output.substr(r.output.rfind("output written to"));
+  EXPECT_NE(last_lines.find("side_view.png, tangential_force.png"), std::string::npos) << last_lines;
+  for (const char* f : {"pictures.gp", "side_start.dat", "side_end.dat", "wear.csv"})
+    EXPECT_TRUE(fs::is_regular_file(d / f)) << f;
+  // Every particle in both side views (525 after carving, RESULTS.md), with its radius and body.
+  for (const char* f : {"side_start.dat", "side_end.dat"}) {
+    std::istringstream in(slurp(d / f));
+    std::string line;
+    int rows = 0;
+    while (std::getline(in, line))
+      if (!line.empty() && line[0] != '#') ++rows;
+    EXPECT_EQ(rows, 525) << f;
+  }
+  if (std::system("command -v gnuplot > /dev/null 2>&1") == 0) {
+    EXPECT_NE(r.output.find("pictures: " + (d / "side_view.png").string()), std::string::npos) << r.output;
+    for (const char* f : {"side_view.png", "tangential_force.png"}) {
+      EXPECT_TRUE(fs::is_regular_file(d / f)) << f;
+      EXPECT_GT(fs::file_size(d / f), 10000u) << f;
+    }
+  } else {
+    EXPECT_NE(r.output.find("pictures skipped: gnuplot not found"), std::string::npos) << r.output;
+  }
+}
+
+TEST(DemCliHcpWallLoad, TopWallReachesItsEquilibriumDisplacement) {
+  const fs::path d = scratch("hcp_wall_load");
+  const Result r = run_dem("-i " + std::string(DEBRIS_SOURCE_DIR) + "/scenarios/dem/hcp_wall_load.yaml -o " +
+                           d.string() + " --threads 2");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("critical time step"), std::string::npos);
   // The loaded top wall ends in equilibrium: its reaction balances the applied 0.01 x (1000 x 866.03).

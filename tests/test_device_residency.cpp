@@ -183,8 +183,8 @@ TEST(DeviceResidency, ExecutableStepsMoveNoStateBetweenHostAndDevice) {
   const fs::path d = test::fresh_directory("debris_device_transfers");
   const std::string source = DEBRIS_SOURCE_DIR;
   const std::string dem = test::replace(
-      test::replace(test::slurp(fs::path(source) / "scenarios/dem/default.yaml"), "steps: 4000", "steps: 600"),
-      "directory: out/dem_default", "directory: " + (d / "dem").string());
+      test::replace(test::slurp(fs::path(source) / "scenarios/dem/hcp_wall_load.yaml"), "steps: 4000", "steps: 600"),
+      "directory: out/dem_hcp_wall_load", "directory: " + (d / "dem").string());
   ASSERT_NE(dem.find("steps: 600"), std::string::npos);
   const test::CommandResult a =
       test::run_command(DEBRIS_DEM_EXECUTABLE, "-i " + test::write_text_file(d, "dem.yaml", dem));

@@ -24,10 +24,10 @@ struct Threads {
   ~Threads() { exec::set_threads(saved); }
 };
 
-// scenarios/dem/default.yaml with 17 x 8 x 8 HCP cells (4352 particles: two full summation blocks and a
+// scenarios/dem/hcp_wall_load.yaml with 17 x 8 x 8 HCP cells (4352 particles: two full summation blocks and a
 // partial one, each wall's members spread over all three after the sort by cell).
 DemSimulation default_system() {
-  std::string text = read_input_file(std::string(DEBRIS_SOURCE_DIR) + "/scenarios/dem/default.yaml");
+  std::string text = read_input_file(std::string(DEBRIS_SOURCE_DIR) + "/scenarios/dem/hcp_wall_load.yaml");
   const std::string from = "cells: [10, 8, 5]";
   const auto at = text.find(from);
   EXPECT_NE(at, std::string::npos) << "default.yaml changed: update this test";

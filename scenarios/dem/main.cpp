@@ -23,6 +23,7 @@
 #include "kernels/dem/integrate.hpp"
 #include "scenarios/common/run/checkpoint_file.hpp"
 #include "scenarios/common/dem/dem_input.hpp"
+#include "scenarios/common/dem/run_pictures.hpp"
 #include "scenarios/common/run/runner.hpp"
 
 namespace {
@@ -144,6 +145,8 @@ class DemRunModel final : public RunModel {
 
   void open_frames(const std::string& dir, const std::string& suffix) override {
     namespace fs = std::filesystem;
+    output_dir_ = dir;
+    if (cfg_.output.pictures && suffix.empty()) write_side_view(dir, "side_start", sim_.particles(), picture_units());
     dump_.emplace((fs::path(dir) / ("dump" + suffix + ".lammpstrj")).string());
     std::vector<std::string> names;
     for (const Group& g : sim_.groups().list) names.push_back(g.name);
@@ -172,7 +175,8 @@ class DemRunModel final : public RunModel {
       trajectory_->write_frame(step, sim_.time(), sim_.box(), sim_.particles());
   }
   std::string frame_files(const std::string& suffix) const override {
-    return "dump" + suffix + ".lammpstrj, trajectory" + suffix + ".xmf + .h5" + (wear_ ? ", wear.csv" : "");
+    return "dump" + suffix + ".lammpstrj, trajectory" + suffix + ".xmf + .h5" + (wear_ ? ", wear.csv" : "") +
+           (cfg_.output.pictures ? ", side_view.png, tangential_force.png" : "");
   }
   void write_checkpoint(const std::string& path, const std::string& input) const override {
     sim_.write_checkpoint(path, input, [&](h5::File& f) { write_run_state(f, overlap_limit_, wear_); });
@@ -225,7 +229,17 @@ class DemRunModel final : public RunModel {
     if (wear_) rows.push_back({"wear", wear_seconds_, "(bonds, clusters, rigid fits: wear.csv)"});
     return rows;
   }
-  std::string closing_report() override { return wear_ ? wear_->report() : std::string(); }
+  std::string closing_report() override {
+    std::string report = wear_ ? wear_->report() : std::string();
+    if (cfg_.output.pictures) {
+      write_side_view(output_dir_, "side_end", sim_.particles(), picture_units());
+      if (!report.empty()) report += '\n';
+      const auto& r = sim_.particles().radius;
+      report += draw_run_pictures(output_dir_, sim_.groups(), picture_units(), sim_.box().lo(), sim_.box().hi(),
+                                  r.empty() ? 0.0 : *std::max_element(r.begin(), r.end()));
+    }
+    return report;
+  }
 
  private:
   static bool due(long every, long step) { return every > 0 && step % every == 0; }
@@ -244,6 +258,10 @@ class DemRunModel final : public RunModel {
     }
     return "?";
   }
+  PictureUnits picture_units() const {
+    const Vec3 extent = sim_.box().hi() - sim_.box().lo();
+    return PictureUnits::for_extent(std::max({extent.x, extent.y, extent.z}));
+  }
   long trajectory_every() const {
     return cfg_.output.trajectory_every > 0 ? cfg_.output.trajectory_every : cfg_.output.dump_every;
   }
@@ -257,6 +275,7 @@ class DemRunModel final : public RunModel {
   std::optional<TrajectoryWriter> trajectory_;
   std::optional<WearAnalysis> wear_;
   std::optional<ThermoCsv> wear_csv_;
+  std::string output_dir_;
   bool wear_restored_ = false;
   double wear_seconds_ = 0;
 };

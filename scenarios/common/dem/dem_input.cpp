@@ -442,6 +442,7 @@ void read_output(const InputNode& out, DemOutputSettings& o) {
   o.progress_seconds = out.quantity("progress_seconds", units::time, 10.0);
   if (!(o.progress_seconds > 0))
     throw input_error("output.progress_seconds", format_value(o.progress_seconds), "must be > 0");
+  o.pictures = out.boolean("pictures", false);
 }
 
 // Stages, run control, the wear analysis and output. `restored`: the physics keys of `run` were skipped.

@@ -1,0 +1,76 @@
+#include "scenarios/common/dem/run_pictures.hpp"
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "core/groups.hpp"
+#include "core/particles.hpp"
+
+namespace debris {
+
+namespace fs = std::filesystem;
+
+PictureUnits PictureUnits::for_extent(double box_extent) {
+  if (box_extent < 1e-3) return PictureUnits{1e9, 1e6, "nm", "uN"};
+  return PictureUnits{};
+}
+
+void write_side_view(const std::string& dir, const std::string& name, const Particles& p, const PictureUnits& u) {
+  std::ofstream out(fs::path(dir) / (name + ".dat"));
+  out << "# x y radius (" << u.length_name << ") colour (label, else group + 1)\n";
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const int colour = p.label[i] > 0 ? p.label[i] : p.group[i] + 1;
+    out << p.x[i] * u.length << ' ' << p.y[i] * u.length << ' ' << p.radius[i] * u.length << ' ' << colour << '\n';
+  }
+  if (!out) throw std::runtime_error("cannot write " + (fs::path(dir) / (name + ".dat")).string());
+}
+
+std::string draw_run_pictures(const std::string& dir, const Groups& groups, const PictureUnits& u, Vec3 lo, Vec3 hi,
+                              double max_radius) {
+  const fs::path d(dir);
+  std::string driven;
+  for (const Group& g : groups.list)
+    if (g.motion == GroupMotion::velocity || g.motion == GroupMotion::force) {
+      driven = g.name;
+      break;
+    }
+  std::ofstream gp(d / "pictures.gp");
+  gp << "# debris_dem pictures: run `gnuplot pictures.gp` in this directory.\n"
+     << "set terminal pngcairo size 1200,520 font ',11'\n"
+     << "set output 'side_view.png'\n"
+     << "set multiplot layout 1,2\n"
+     << "set size ratio -1\nunset key\n"
+     << "set xrange [" << (lo.x - max_radius) * u.length << ":" << (hi.x + max_radius) * u.length << "]\n"
+     << "set yrange [" << (lo.y - max_radius) * u.length << ":" << (hi.y + max_radius) * u.length << "]\n"
+     << "set xlabel 'x (" << u.length_name << ")'\nset ylabel 'y (" << u.length_name
+     << ")'\n"
+     << "# one colour per body (label) or group, in the order the input names them\n"
+     << "set palette defined (1 '#4477aa', 2 '#ee6677', 3 '#228833', 4 '#888888', 5 '#333333', 6 '#ccbb44')\n"
+     << "set palette maxcolors 6\nset cbrange [0.5:6.5]\nunset colorbox\n"
+     << "set style fill transparent solid 0.7 noborder\n"
+     << "set title 'first step' noenhanced\n"
+     << "plot 'side_start.dat' using 1:2:3:4 with circles palette\n"
+     << "set title 'last step' noenhanced\n"
+     << "plot 'side_end.dat' using 1:2:3:4 with circles palette\n"
+     << "unset multiplot\n";
+  if (!driven.empty())
+    gp << "set terminal pngcairo size 800,520 font ',11'\n"
+       << "set output 'tangential_force.png'\n"
+       << "set size noratio\nset autoscale\nset datafile separator ','\nset key off\n"
+       << "set title 'tangential force on " << driven << " against its slide' noenhanced\n"
+       << "set xlabel 'sliding distance (" << u.length_name << ")'\nset ylabel 'F_x (" << u.force_name << ")'\n"
+       << "plot 'thermo.csv' using (column('" << driven << "_dx') * " << u.length << "):(column('" << driven
+       << "_fx') * " << u.force << ") with lines lw 2\n";
+  gp.close();
+  if (!gp) return "pictures: cannot write " + (d / "pictures.gp").string();
+  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0)
+    return "pictures skipped: gnuplot not found (Debian: apt install gnuplot-nox); run `gnuplot pictures.gp` in " +
+           dir + " later";
+  const std::string cmd = "cd '" + dir + "' && gnuplot pictures.gp > pictures.log 2>&1";
+  if (std::system(cmd.c_str()) != 0) return "pictures failed: gnuplot could not draw them (see " + dir + "/pictures.log)";
+  return "pictures: " + (d / "side_view.png").string() + (driven.empty() ? "" : ", " + (d / "tangential_force.png").string());
+}
+
+}  // namespace debris
