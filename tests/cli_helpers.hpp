@@ -54,6 +54,15 @@ inline std::filesystem::path fresh_directory(const std::string& name) {
 
 /// `text` with its first `from` replaced by `to`, the way the tests make a bad input from a good one; a test
 /// failure when `from` is not there (an edit that did nothing would test the unedited input).
+inline bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+template <class V>
+double sum(const V& v) {
+  double s = 0;
+  for (double x : v) s += x;
+  return s;
+}
+
 inline std::string replace(std::string text, const std::string& from, const std::string& to) {
   const auto pos = text.find(from);
   EXPECT_NE(pos, std::string::npos) << from;

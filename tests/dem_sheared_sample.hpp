@@ -14,6 +14,13 @@
 
 namespace debris::test {
 
+/// Table 4's material with restitution eta and scaling exponent s.
+inline CohesiveMaterial table4(double eta = 0.95, double s = 0.0) {
+  CohesiveMaterial m = table4_material(s);
+  m.restitution = eta;
+  return m;
+}
+
 // An FCC lattice of d = 100 at spacing 100 (touching), optionally with a size spread and random displacements.
 inline LatticeSpec fcc_spec(std::array<int, 3> cells, double spread = 0.0, double disp = 0.0) {
   LatticeSpec l;
@@ -49,8 +56,7 @@ inline Snapshot run_sheared(Particles p, Box box, int steps, int threads, PairPa
   exec::set_threads(threads > 0 ? threads : 1);
   const Groups g = shear_walls(p, box, {0.02, 0, 0});
   DemSettings s;
-  s.material = table4_material(0.0);
-  s.material.restitution = 0.9;
+  s.material = table4(0.9);
   s.time_step_fraction = 0.1;
   s.global_damping = 0.05;
   s.pair_pass = pass;

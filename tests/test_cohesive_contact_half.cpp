@@ -21,12 +21,7 @@ using test::fcc_spec;
 using test::run_sheared;
 using test::shear_walls;
 using test::Snapshot;
-
-CohesiveMaterial table4(double eta) {
-  CohesiveMaterial m = table4_material(0.0);
-  m.restitution = eta;
-  return m;
-}
+using test::table4;
 
 // The host half-list pass and the full-list reference pass are the same physics: forces, torques and
 // velocities agree to round-off after hundreds of sheared steps with damping, sliding and breaking.

@@ -24,12 +24,8 @@ using test::fcc_spec;
 using test::run_sheared;
 using test::shear_walls;
 using test::Snapshot;
+using test::table4;
 
-CohesiveMaterial table4(double eta = 0.95, double s = 0.0) {
-  CohesiveMaterial m = table4_material(s);
-  m.restitution = eta;
-  return m;
-}
 
 std::size_t index_of(const Particles& p, std::int64_t id) {
   return static_cast<std::size_t>(std::find(p.id.begin(), p.id.end(), id) - p.id.begin());

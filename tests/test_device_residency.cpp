@@ -167,12 +167,16 @@ TEST(DeviceResidency, DemRunOnTheDeviceEqualsHostFallback) {
 
 // The executable: thermo rows, dump frames and the checkpoint come from the device's state through the
 // runner's transfer points; the same input on the initial device (OMP_DEFAULT_DEVICE) must give the same files.
-// Bytes per step the runner reports between host and device, outputs and sampled checks left out.
-double transfers_per_step(const std::string& output) {
+// Runs `exe -i input` and returns the bytes per step the runner reports between host and device (outputs
+// and sampled checks left out), or -1 when the run fails or does not report them.
+double transfers_per_step(const std::string& exe, const std::string& input) {
+  const test::CommandResult r = test::run_command(exe, "-i " + input);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
   const std::string key = "device transfers while stepping: ";
-  const std::size_t at = output.find(key);
-  if (at == std::string::npos) return -1.0;
-  return std::stod(output.substr(at + key.size()));
+  const std::size_t at = r.output.find(key);
+  EXPECT_NE(at, std::string::npos) << r.output;
+  if (r.exit_code != 0 || at == std::string::npos) return -1.0;
+  return std::stod(r.output.substr(at + key.size()));
 }
 
 // Through the runner, the steps of both executables on their default inputs move only scalars, block sums
@@ -186,12 +190,9 @@ TEST(DeviceResidency, ExecutableStepsMoveNoStateBetweenHostAndDevice) {
       test::replace(test::slurp(fs::path(source) / "scenarios/dem/hcp_wall_load.yaml"), "steps: 4000", "steps: 600"),
       "directory: out/dem_hcp_wall_load", "directory: " + (d / "dem").string());
   ASSERT_NE(dem.find("steps: 600"), std::string::npos);
-  const test::CommandResult a =
-      test::run_command(DEBRIS_DEM_EXECUTABLE, "-i " + test::write_text_file(d, "dem.yaml", dem));
-  ASSERT_EQ(a.exit_code, 0) << a.output;
-  const double dem_bytes = transfers_per_step(a.output);
-  ASSERT_GE(dem_bytes, 0.0) << a.output;
-  EXPECT_LT(dem_bytes, 4096.0) << a.output;
+  const double dem_bytes = transfers_per_step(DEBRIS_DEM_EXECUTABLE, test::write_text_file(d, "dem.yaml", dem));
+  ASSERT_GE(dem_bytes, 0.0);
+  EXPECT_LT(dem_bytes, 4096.0);
   std::string pd = test::slurp(fs::path(source) / "scenarios/peridem/compressive_small.yaml");
   for (std::size_t at = pd.find("file: data/"); at != std::string::npos; at = pd.find("file: data/", at + 1))
     pd.replace(at, 11, "file: " + source + "/scenarios/peridem/data/");
@@ -199,12 +200,10 @@ TEST(DeviceResidency, ExecutableStepsMoveNoStateBetweenHostAndDevice) {
                      "directory: " + (d / "peridem").string());
   ASSERT_NE(pd.find("steps: 600"), std::string::npos);
   ASSERT_EQ(pd.find("file: data/"), std::string::npos);
-  const test::CommandResult b =
-      test::run_command(DEBRIS_PERIDEM_EXECUTABLE, "-i " + test::write_text_file(d, "peridem.yaml", pd));
-  ASSERT_EQ(b.exit_code, 0) << b.output;
-  const double pd_bytes = transfers_per_step(b.output);
-  ASSERT_GE(pd_bytes, 0.0) << b.output;
-  EXPECT_LT(pd_bytes, 4096.0) << b.output;
+  const double pd_bytes =
+      transfers_per_step(DEBRIS_PERIDEM_EXECUTABLE, test::write_text_file(d, "peridem.yaml", pd));
+  ASSERT_GE(pd_bytes, 0.0);
+  EXPECT_LT(pd_bytes, 4096.0);
   std::cout << "bytes per step: debris_dem " << dem_bytes << ", debris_peridem " << pd_bytes << "\n";
 }
 

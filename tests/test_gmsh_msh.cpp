@@ -38,14 +38,9 @@ std::string read_error(const std::string& path) {
   return "";
 }
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using test::contains;
 
-template <class V>
-double sum(const V& v) {
-  double s = 0;
-  for (double x : v) s += x;
-  return s;
-}
+using test::sum;
 
 /// The mesh's area by the divergence theorem: the shoelace sum over the boundary edges (edges of one
 /// triangle only), each directed as in its counter-clockwise triangle. Independent of eq 31's element sums.

@@ -27,7 +27,7 @@ const std::string kData = std::string(DEBRIS_SOURCE_DIR) + "/scenarios/peridem/d
 
 fs::path scratch(const std::string& name) { return debris::test::fresh_directory("debris_pd_" + name); }
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using test::contains;
 
 std::string csv_error(const std::string& path) {
   try {
@@ -46,12 +46,7 @@ std::vector<ReferenceGrain> compressive_zones() {
           make_reference_grain(read_gmsh_msh(dir + "mesh_particle_2_0.msh"), 1e-3, 0, "zone 2 mesh")};
 }
 
-template <class V>
-double sum(const V& v) {
-  double s = 0;
-  for (double x : v) s += x;
-  return s;
-}
+using test::sum;
 
 // ---------------------------------------------------------------------------------------------------------
 

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "tests/cli_helpers.hpp"
 
 namespace debris {
 namespace {
@@ -25,7 +26,7 @@ std::string error_of(F&& f) {
   return "";
 }
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using test::contains;
 
 const char* const material_yaml = R"(
 material:

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "tests/cli_helpers.hpp"
 
 namespace debris {
 namespace {
@@ -38,7 +39,7 @@ std::string read_error(const std::string& path) {
   return "";
 }
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using test::contains;
 
 /// Particles in shuffled id order with awkward values: every bit must survive the text file.
 Particles awkward_particles(std::size_t n) {

@@ -35,14 +35,9 @@ GmshRun fresh_run(const std::string& name, int msh_version = 22) {
   return run;
 }
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using test::contains;
 
-template <class V>
-double sum(const V& v) {
-  double s = 0;
-  for (double x : v) s += x;
-  return s;
-}
+using test::sum;
 
 double segment_distance(Vec3 p, Vec3 a, Vec3 b) {
   const Vec3 ab = b - a;
