@@ -25,6 +25,7 @@
 #include "core/thread_tuner.hpp"
 #include "scenarios/amorphous/amorphous_input.hpp"
 #include "scenarios/common/dem/amorphous_sample.hpp"
+#include "scenarios/common/run/gnuplot.hpp"
 
 namespace {
 
@@ -105,10 +106,9 @@ std::string plot_volume_fraction(const fs::path& dir, const std::vector<double>&
          << " ? $6 : 1/0) with linespoints pt 7 title 'debris, s = " << std::setprecision(6) << s << "', \\\n     ";
     gp << "hcp with lines dt 2 lc rgb 'black' title 'HCP, {/Symbol p} / (3 {/Symbol \\326}2) = 0.7405'\n";
   }
-  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0)
-    return "gnuplot not found: plot skipped (script " + script.string() + ")";
-  const std::string cmd = "cd '" + dir.string() + "' && gnuplot volume_fraction_vs_d0.gp";
-  if (std::system(cmd.c_str()) != 0) return "gnuplot failed on " + script.string() + ": plot not made";
+  const GnuplotRun run = run_gnuplot(dir.string(), "volume_fraction_vs_d0.gp", "volume_fraction_vs_d0.log");
+  if (!run.found) return "gnuplot not found: plot skipped (script " + script.string() + ")";
+  if (run.status != 0) return "gnuplot failed on " + script.string() + ": plot not made";
   return "plot: " + (dir / "volume_fraction_vs_d0.png").string();
 }
 

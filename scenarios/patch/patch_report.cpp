@@ -13,6 +13,7 @@
 #include "core/error.hpp"
 #include "core/io/text_format.hpp"
 #include "core/io/thermo_csv.hpp"
+#include "scenarios/common/run/gnuplot.hpp"
 
 namespace debris {
 
@@ -157,12 +158,6 @@ std::string gp_string(const std::string& s) {
   return q + "'";
 }
 
-std::string shell_quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
 // Writes each series as a datablock $<prefix><k> and returns the plot clauses for them.
 std::string datablocks(std::ostream& gp, const std::string& prefix, const std::vector<Series>& series,
                        const std::string& style) {
@@ -177,20 +172,6 @@ std::string datablocks(std::ostream& gp, const std::string& prefix, const std::v
         (clauses.empty() ? "" : ", \\\n     ") + name + " using 1:2 " + st + " title " + gp_string(series[k].title);
   }
   return clauses;
-}
-
-std::string find_gnuplot() {
-  const char* path = std::getenv("PATH");
-  if (!path) return {};
-  std::stringstream ss(path);
-  std::string dir;
-  while (std::getline(ss, dir, ':')) {
-    if (dir.empty()) continue;
-    const fs::path p = fs::path(dir) / "gnuplot";
-    std::error_code ec;
-    if (fs::exists(p, ec) && !fs::is_directory(p, ec)) return p.string();
-  }
-  return {};
 }
 
 }  // namespace
@@ -429,13 +410,12 @@ std::string write_plots(const std::string& dir, const std::vector<PatchCaseResul
     out << gp.str();
     if (!out) throw input_error("output.directory", script.string(), "cannot write the plot script");
   }
-  const std::string gnuplot = find_gnuplot();
-  if (gnuplot.empty())
+  const GnuplotRun run = run_gnuplot(dir, "plots.gp", "plots.log");
+  if (!run.found)
     return "plots skipped: gnuplot not found on the PATH (Debian: apt install gnuplot-nox); run `gnuplot plots.gp` "
            "in " +
            dir + " later";
-  const std::string cmd = "cd " + shell_quote(dir) + " && " + shell_quote(gnuplot) + " plots.gp > plots.log 2>&1";
-  const int rc = std::system(cmd.c_str());
+  const int rc = run.status;
   if (rc != 0) return "plots failed: gnuplot exited with status " + std::to_string(rc) + " (see " + dir + "/plots.log)";
   std::string list;
   for (const std::string& p : pngs) list += (list.empty() ? "" : ", ") + p;

@@ -1,12 +1,12 @@
 #include "scenarios/common/dem/run_pictures.hpp"
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
 #include "core/groups.hpp"
 #include "core/particles.hpp"
+#include "scenarios/common/run/gnuplot.hpp"
 
 namespace debris {
 
@@ -65,11 +65,11 @@ std::string draw_run_pictures(const std::string& dir, const Groups& groups, cons
        << "_fx') * " << u.force << ") with lines lw 2\n";
   gp.close();
   if (!gp) return "pictures: cannot write " + (d / "pictures.gp").string();
-  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0)
+  const GnuplotRun run = run_gnuplot(dir, "pictures.gp", "pictures.log");
+  if (!run.found)
     return "pictures skipped: gnuplot not found (Debian: apt install gnuplot-nox); run `gnuplot pictures.gp` in " +
            dir + " later";
-  const std::string cmd = "cd '" + dir + "' && gnuplot pictures.gp > pictures.log 2>&1";
-  if (std::system(cmd.c_str()) != 0) return "pictures failed: gnuplot could not draw them (see " + dir + "/pictures.log)";
+  if (run.status != 0) return "pictures failed: gnuplot could not draw them (see " + dir + "/pictures.log)";
   return "pictures: " + (d / "side_view.png").string() + (driven.empty() ? "" : ", " + (d / "tangential_force.png").string());
 }
 

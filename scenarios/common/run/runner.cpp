@@ -142,6 +142,7 @@ int run_plan(RunPlan& plan, const std::string& program, const RunOptions& opt, C
     // copy on purpose): a step should move only scalars, block sums and group views, never the state.
     double step_bytes = 0.0;
     auto moved_bytes = [] {
+      if constexpr (!exec::offload_build()) return 0.0;  // host builds move nothing: no call per step
       const exec::TransferStats t = exec::transfer_stats();
       return t.to_host_bytes + t.to_device_bytes;
     };
