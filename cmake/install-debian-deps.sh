@@ -22,7 +22,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   gcc-12-offload-nvptx   # the DEBRIS_OFFLOAD=nvptx configuration (GCC 12 OpenMP offload to NVIDIA GPUs)
   python3                # bench/perf_check.py
-  gmsh                   # PeriDEM grain and wall meshes: scenarios/common/peridem/shape_mesh runs the gmsh executable (tests too)
+  libgmsh-dev            # Gmsh's C++ API: PeriDEM grain and wall shapes meshed in-process (scenarios/common/peridem/shape_mesh; the tests need it)
+  gmsh                   # the Gmsh executable: scenarios/peridem/timing_study.py remeshes the deck's .geo files with -clscale
   gnuplot-nox            # the PNG plots of the patch-test and amorphous scenarios (skipped, with a note, without it)
   python3-matplotlib     # the sheared-junction pictures (scenarios/wear/plot.py)
   python3-numpy python3-h5py  # scenarios/peridem/compression.py, damage_picture.py, settled_pack.py (and their test)

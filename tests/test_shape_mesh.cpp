@@ -1,7 +1,7 @@
-// Reference shapes meshed by the gmsh executable: PeriDEM's own scripts reproduced, every node inside its
+// Reference shapes meshed in-process by Gmsh's API: PeriDEM's own scripts reproduced, every node inside its
 // shape, nodal volumes summing to the exact area (polygons) or the inscribed polygon / polyhedron (circle,
-// sphere), the concave polygon's notches free of nodes, and the errors for bad shapes and a missing or
-// failing Gmsh. Coarse meshes: each Gmsh run here takes well under a second.
+// sphere), the concave polygon's notches free of nodes, reuse of a meshed file, and the errors for bad
+// shapes and a failing Gmsh. Coarse meshes: each takes well under a second.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -283,19 +283,29 @@ TEST(PdShape, SphereIsInscribedAndBoxIsExact) {
   EXPECT_NEAR(sum(nodal_volumes(b, "box")), box, 1e-12 * box);
 }
 
-TEST(PdShape, ReusesTheMeshOfTheSameScript) {
+TEST(PdShape, ReusesTheMeshFileOfTheSameShape) {
   GmshRun run = fresh_run("pd_shape_reuse");
   const ShapeSpec spec = ShapeSpec::make_hexagon(1e-3, 3e-4);
   const SimplexMesh first = mesh_shape(spec, run);
-  run.executable = "debris-no-such-gmsh";  // a second run of Gmsh would fail
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(run.directory)) files.push_back(e.path());
+  ASSERT_EQ(files.size(), 1u);  // one .msh, no temporary left behind
+  EXPECT_EQ(files[0].extension(), ".msh");
+  EXPECT_TRUE(contains(files[0].filename().string(), "hexagon-"));
+  // With reuse the file is the mesh: put another mesh there and that one comes back, Gmsh is not asked.
+  fs::copy_file(kData + "/compressive_n500/mesh_particle_1_0.msh", files[0], fs::copy_options::overwrite_existing);
+  EXPECT_EQ(mesh_shape(spec, run).nodes.size(), 123u);  // PeriDEM's circle
+  run.reuse = false;
   const SimplexMesh again = mesh_shape(spec, run);
   ASSERT_EQ(again.nodes.size(), first.nodes.size());
   for (std::size_t i = 0; i < first.nodes.size(); ++i) EXPECT_EQ(norm(again.nodes[i] - first.nodes[i]), 0.0);
-  run.reuse = false;
-  EXPECT_TRUE(contains(shape_error(spec, run), "not found"));
-  // A different mesh size is a different script: no reuse.
+  EXPECT_EQ(read_gmsh_msh(files[0].string()).nodes.size(), first.nodes.size());  // the file was written again
+  // Another mesh size, another format: other files.
   run.reuse = true;
-  EXPECT_TRUE(contains(shape_error(ShapeSpec::make_hexagon(1e-3, 2.9e-4), run), "not found"));
+  mesh_shape(ShapeSpec::make_hexagon(1e-3, 2.9e-4), run);
+  run.msh_version = 41;
+  mesh_shape(spec, run);
+  EXPECT_EQ(std::distance(fs::directory_iterator(run.directory), fs::directory_iterator()), 3);
 }
 
 TEST(PdShape, BadShapesNameTheParameterAndValue) {
@@ -329,32 +339,17 @@ TEST(PdShape, BadShapesNameTheParameterAndValue) {
   EXPECT_TRUE(contains(shape_error(ShapeSpec::make_circle(1, 0.5), bad_version), "'gmsh.msh_version' = 40"));
 }
 
-TEST(PdShape, MissingOrFailingGmshIsExplained) {
-  GmshRun run = fresh_run("pd_shape_gmsh_fails");
-  const ShapeSpec spec = ShapeSpec::make_circle(1e-3, 2e-4);
-  run.executable = "debris-no-such-gmsh";
-  const std::string missing = shape_error(spec, run);
-  EXPECT_TRUE(contains(missing, "'gmsh.executable' = debris-no-such-gmsh")) << missing;
-  EXPECT_TRUE(contains(missing, "apt-get install gmsh")) << missing;
-
-  // A stand-in Gmsh that fails the way Gmsh does: errors on stderr, exit status 1.
-  const fs::path fake = fs::path(run.directory) / "failing-gmsh";
-  std::ofstream(fake) << "#!/bin/sh\necho 'Error   : the fake gmsh refuses' >&2\nexit 1\n";
-  fs::permissions(fake, fs::perms::owner_all);
-  run.executable = fake.string();
-  const std::string failed = shape_error(spec, run);
-  EXPECT_TRUE(contains(failed, "exited with status 1")) << failed;
-  EXPECT_TRUE(contains(failed, "the fake gmsh refuses")) << failed;
-  EXPECT_TRUE(contains(failed, ".geo")) << failed;
-
-  // One that succeeds without writing a mesh.
-  const fs::path silent = fs::path(run.directory) / "silent-gmsh";
-  std::ofstream(silent) << "#!/bin/sh\necho 'Info    : nothing done'\nexit 0\n";
-  fs::permissions(silent, fs::perms::owner_all);
-  run.executable = silent.string();
-  const std::string empty = shape_error(spec, run);
-  EXPECT_TRUE(contains(empty, "wrote a mesh that cannot be used")) << empty;
-  EXPECT_TRUE(contains(empty, "nothing done")) << empty;
+TEST(PdShape, AMeshDirectoryThatCannotBeMadeIsAnOutputError) {
+  GmshRun run = fresh_run("pd_shape_no_dir");
+  const std::string file = test::write_text_file(run.directory, "a_file", "not a directory\n");
+  run.directory = file + "/meshes";
+  try {
+    mesh_shape(ShapeSpec::make_circle(1e-3, 2e-4), run);
+    ADD_FAILURE() << "no OutputError";
+  } catch (const OutputError& e) {
+    EXPECT_TRUE(contains(e.what(), "gmsh.directory")) << e.what();
+    EXPECT_TRUE(contains(e.what(), run.directory)) << e.what();
+  }
 }
 
 }  // namespace

@@ -7,7 +7,7 @@
 
 #include "core/error.hpp"
 #include "scenarios/common/peridem/grain_placement.hpp"
-#include "core/io/gmsh_msh.hpp"
+#include "scenarios/common/peridem/gmsh_api.hpp"
 #include "scenarios/common/peridem/shape_mesh.hpp"
 #include "scenarios/common/peridem/peridem_simulation.hpp"
 
@@ -27,7 +27,7 @@ ReferenceGrain circle_grain(const std::string& file, double radius, double mesh_
                             const std::string& what) {
   if (file.empty())
     return make_reference_grain(mesh_shape(ShapeSpec::make_circle(radius, mesh_size), gmsh), radius, material, what);
-  SimplexMesh mesh = read_gmsh_msh(file);
+  SimplexMesh mesh = read_mesh_file(file);
   double r_ref = 0.0;
   for (const Vec3& v : mesh.nodes) r_ref = std::max(r_ref, norm(v));
   return make_reference_grain(std::move(mesh), r_ref, material, what + " (" + file + ")");

@@ -11,7 +11,7 @@
 
 #include "core/error.hpp"
 #include "scenarios/common/peridem/grain_placement.hpp"
-#include "core/io/gmsh_msh.hpp"
+#include "scenarios/common/peridem/gmsh_api.hpp"
 #include "core/io/grain_csv.hpp"
 #include "core/io/input.hpp"
 #include "core/memory_budget.hpp"
@@ -258,7 +258,7 @@ class MeshCache {
     SimplexMesh m;
     if (s.from_file) {
       if (!fs::exists(s.file)) throw input_error(s.path + ".file", s.file, "no such mesh file");
-      m = read_gmsh_msh(s.file);
+      m = read_mesh_file(s.file);
       if (m.dimension != dimension_)
         throw input_error(
             s.path + ".file", s.file,

@@ -1,8 +1,5 @@
 #include "scenarios/common/peridem/shape_mesh.hpp"
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -12,16 +9,17 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <initializer_list>
 #include <numbers>
-#include <sstream>
 #include <vector>
 
 #include "core/error.hpp"
 #include "core/io/text_format.hpp"
+#include "scenarios/common/peridem/gmsh_api.hpp"
 
-extern char** environ;
+#if DEBRIS_HAVE_GMSH_API
+#include <gmsh.h>
+#endif
 
 namespace debris {
 
@@ -151,7 +149,7 @@ Vec3 rotate_z(Vec3 a, double theta) {
 }
 
 /// The polygon vertices of a hexagon or concave polygon, counter-clockwise, in PeriDEM's order.
-std::vector<Vec3> polygon_vertices(const ShapeSpec& s) {
+[[maybe_unused]] std::vector<Vec3> polygon_vertices(const ShapeSpec& s) {
   const Vec3 a = unit_axis(s);
   const Vec3 c = s.centre;
   const double R = s.radius;
@@ -171,53 +169,8 @@ double overlap(double lo1, double hi1, double lo2, double hi2) {
   return std::max(0.0, std::min(hi1, hi2) - std::max(lo1, lo2));
 }
 
-void append_point(std::string& geo, int tag, Vec3 p, double h) {
-  geo += "Point(" + std::to_string(tag) + ") = {";
-  append_number(geo, p.x);
-  geo += ", ";
-  append_number(geo, p.y);
-  geo += ", ";
-  append_number(geo, p.z);
-  geo += ", ";
-  append_number(geo, h);
-  geo += "};\n";
-}
-
-/// A closed polygon through points first..first+n-1 as lines first..first+n-1, its curve loop `loop`.
-void append_polygon(std::string& geo, const std::vector<Vec3>& v, int first, int loop, double h) {
-  const int n = static_cast<int>(v.size());
-  for (int k = 0; k < n; ++k) append_point(geo, first + k, v[static_cast<std::size_t>(k)], h);
-  std::string lines;
-  for (int k = 0; k < n; ++k) {
-    geo += "Line(" + std::to_string(first + k) + ") = {" + std::to_string(first + k) + ", " +
-           std::to_string(first + (k + 1) % n) + "};\n";
-    lines += (k ? ", " : "") + std::to_string(first + k);
-  }
-  geo += "Curve Loop(" + std::to_string(loop) + ") = {" + lines + "};\n";
-}
-
-void append_list(std::string& geo, const char* head, std::initializer_list<double> values) {
-  geo += head;
-  bool first = true;
-  for (const double x : values) {
-    if (!first) geo += ", ";
-    append_number(geo, x);
-    first = false;
-  }
-  geo += "};\n";
-}
-
-std::vector<Vec3> rectangle_corners(Vec3 lo, Vec3 hi) {
+[[maybe_unused]] std::vector<Vec3> rectangle_corners(Vec3 lo, Vec3 hi) {
   return {{lo.x, lo.y, lo.z}, {hi.x, lo.y, lo.z}, {hi.x, hi.y, lo.z}, {lo.x, hi.y, lo.z}};
-}
-
-std::string header(const ShapeSpec& s) {
-  std::string geo = "// debris reference mesh: ";
-  geo += shape_name(s.shape);
-  geo += ", mesh size ";
-  append_number(geo, s.mesh_size);
-  geo += "\n";
-  return geo;
 }
 
 }  // namespace
@@ -293,75 +246,126 @@ double shape_measure(const ShapeSpec& s) {
   return 0;
 }
 
-std::string shape_geo(const ShapeSpec& s) {
-  validate_shape(s);
+namespace {
+
+#if DEBRIS_HAVE_GMSH_API
+namespace geo = gmsh::model::geo;
+namespace occ = gmsh::model::occ;
+
+enum class Kernel { builtin, occ };
+
+/// A closed polygon through points first..first+n-1 as lines first..first+n-1, its curve loop `loop`
+/// (PeriDEM's wall scripts), in Gmsh's built-in kernel or OpenCASCADE's.
+void add_polygon(Kernel kernel, const std::vector<Vec3>& v, int first, int loop, double h) {
+  const int n = static_cast<int>(v.size());
+  std::vector<int> lines;
+  for (int k = 0; k < n; ++k) {
+    const Vec3 p = v[static_cast<std::size_t>(k)];
+    kernel == Kernel::occ ? occ::addPoint(p.x, p.y, p.z, h, first + k) : geo::addPoint(p.x, p.y, p.z, h, first + k);
+  }
+  for (int k = 0; k < n; ++k) {
+    const int a = first + k, b = first + (k + 1) % n;
+    kernel == Kernel::occ ? occ::addLine(a, b, a) : geo::addLine(a, b, a);
+    lines.push_back(a);
+  }
+  kernel == Kernel::occ ? occ::addCurveLoop(lines, loop) : geo::addCurveLoop(lines, loop);
+}
+
+/// The shape as Gmsh geometry, in the current (empty) model, with physical group 1 holding what is meshed:
+/// the same entities, tags and order as PeriDEM's .geo scripts (see the header), so that Gmsh meshes them
+/// the same way.
+void add_geometry(const ShapeSpec& s) {
   const double h = s.mesh_size;
-  std::string geo = header(s);
+  double max_size = 1e22;  // Gmsh's default: the point sizes alone set the mesh of the built-in shapes
   switch (s.shape) {
     case Shape::circle: {
       // PeriDEM's circle: centre, the four points on the axes, four quarter arcs, the centre embedded.
       const Vec3 c = s.centre;
       const double R = s.radius;
-      append_point(geo, 1, c, h);
-      append_point(geo, 2, c + Vec3{R, 0, 0}, h);
-      append_point(geo, 3, c + Vec3{-R, 0, 0}, h);
-      append_point(geo, 4, c + Vec3{0, R, 0}, h);
-      append_point(geo, 5, c + Vec3{0, -R, 0}, h);
-      geo += "Circle(1) = {2, 1, 4};\nCircle(2) = {4, 1, 3};\nCircle(3) = {3, 1, 5};\nCircle(4) = {5, 1, 2};\n";
-      geo += "Curve Loop(1) = {2, 3, 4, 1};\nPlane Surface(1) = {1};\nPoint{1} In Surface {1};\n";
-      geo += "Physical Surface(1) = {1};\n";
+      geo::addPoint(c.x, c.y, c.z, h, 1);
+      geo::addPoint(c.x + R, c.y, c.z, h, 2);
+      geo::addPoint(c.x - R, c.y, c.z, h, 3);
+      geo::addPoint(c.x, c.y + R, c.z, h, 4);
+      geo::addPoint(c.x, c.y - R, c.z, h, 5);
+      geo::addCircleArc(2, 1, 4, 1);
+      geo::addCircleArc(4, 1, 3, 2);
+      geo::addCircleArc(3, 1, 5, 3);
+      geo::addCircleArc(5, 1, 2, 4);
+      geo::addCurveLoop({2, 3, 4, 1}, 1);
+      geo::addPlaneSurface({1}, 1);
+      geo::synchronize();
+      gmsh::model::mesh::embed(0, {1}, 2, 1);
+      gmsh::model::addPhysicalGroup(2, {1}, 1);
       break;
     }
     case Shape::hexagon:
     case Shape::concave_polygon: {
       // PeriDEM's scripts: point 1 the centre, points 2..7 the vertices, lines 1..6 around them.
-      append_point(geo, 1, s.centre, h);
+      geo::addPoint(s.centre.x, s.centre.y, s.centre.z, h, 1);
       const std::vector<Vec3> v = polygon_vertices(s);
-      for (int k = 0; k < 6; ++k) append_point(geo, k + 2, v[static_cast<std::size_t>(k)], h);
-      for (int k = 0; k < 6; ++k)
-        geo += "Line(" + std::to_string(k + 1) + ") = {" + std::to_string(k + 2) + ", " +
-               std::to_string((k + 1) % 6 + 2) + "};\n";
-      geo += "Curve Loop(1) = {1, 2, 3, 4, 5, 6};\nPlane Surface(1) = {1};\nPoint{1} In Surface {1};\n";
-      geo += "Physical Surface(1) = {1};\n";
+      for (int k = 0; k < 6; ++k) {
+        const Vec3 p = v[static_cast<std::size_t>(k)];
+        geo::addPoint(p.x, p.y, p.z, h, k + 2);
+      }
+      for (int k = 0; k < 6; ++k) geo::addLine(k + 2, (k + 1) % 6 + 2, k + 1);
+      geo::addCurveLoop({1, 2, 3, 4, 5, 6}, 1);
+      geo::addPlaneSurface({1}, 1);
+      geo::synchronize();
+      gmsh::model::mesh::embed(0, {1}, 2, 1);
+      gmsh::model::addPhysicalGroup(2, {1}, 1);
       break;
     }
     case Shape::rectangle:
       // PeriDEM's wall script: four corner points carrying h.
-      append_polygon(geo, rectangle_corners(s.lo, s.hi), 1, 1, h);
-      geo += "Plane Surface(1) = {1};\nPhysical Surface(1) = {1};\n";
+      add_polygon(Kernel::builtin, rectangle_corners(s.lo, s.hi), 1, 1, h);
+      geo::addPlaneSurface({1}, 1);
+      geo::synchronize();
+      gmsh::model::addPhysicalGroup(2, {1}, 1);
       break;
-    case Shape::rectangle_minus_rectangle:
-      geo += "SetFactory(\"OpenCASCADE\");\n";
-      append_polygon(geo, rectangle_corners(s.lo, s.hi), 1, 1, h);
-      geo += "Plane Surface(1) = {1};\n";
-      append_polygon(geo, rectangle_corners(s.inner_lo, s.inner_hi), 5, 2, h);
-      geo += "Plane Surface(2) = {2};\n";
+    case Shape::rectangle_minus_rectangle: {
+      add_polygon(Kernel::occ, rectangle_corners(s.lo, s.hi), 1, 1, h);
+      occ::addPlaneSurface({1}, 1);
+      add_polygon(Kernel::occ, rectangle_corners(s.inner_lo, s.inner_hi), 5, 2, h);
+      occ::addPlaneSurface({2}, 2);
       // The difference may come in pieces (an inner rectangle across the outer one): keep them all.
-      geo += "s() = BooleanDifference{ Surface{1}; Delete; }{ Surface{2}; Delete; };\n";
-      geo += "Physical Surface(1) = {s()};\n";
-      geo += "Mesh.CharacteristicLengthMax = ";
-      append_number(geo, h);
-      geo += ";\n";
+      gmsh::vectorpair pieces;
+      std::vector<gmsh::vectorpair> map;
+      occ::cut({{2, 1}}, {{2, 2}}, pieces, map, -1, true, true);
+      occ::synchronize();
+      std::vector<int> surfaces;
+      for (const auto& [dim, tag] : pieces) surfaces.push_back(tag);
+      gmsh::model::addPhysicalGroup(2, surfaces, 1);
+      max_size = h;
       break;
+    }
     case Shape::sphere:
     case Shape::box:
-      geo += "SetFactory(\"OpenCASCADE\");\n";
       if (s.shape == Shape::sphere) {
-        append_list(geo, "Sphere(1) = {", {s.centre.x, s.centre.y, s.centre.z, s.radius});
+        occ::addSphere(s.centre.x, s.centre.y, s.centre.z, s.radius, 1);
       } else {
         // OpenCASCADE's box is corner plus lengths: the far corner is lo + (hi - lo), exact to round-off.
-        append_list(geo, "Box(1) = {", {s.lo.x, s.lo.y, s.lo.z, s.hi.x - s.lo.x, s.hi.y - s.lo.y, s.hi.z - s.lo.z});
+        occ::addBox(s.lo.x, s.lo.y, s.lo.z, s.hi.x - s.lo.x, s.hi.y - s.lo.y, s.hi.z - s.lo.z, 1);
       }
-      geo += "Physical Volume(1) = {1};\n";
-      geo += "Mesh.CharacteristicLengthMax = ";
-      append_number(geo, h);
-      geo += ";\n";
+      occ::synchronize();
+      gmsh::model::addPhysicalGroup(3, {1}, 1);
+      max_size = h;
       break;
   }
-  return geo;
+  gmsh::option::setNumber("Mesh.CharacteristicLengthMax", max_size);
 }
+#endif
 
-namespace {
+/// Every number of the spec at 17 digits: what names the cached mesh file.
+std::string spec_text(const ShapeSpec& s) {
+  std::string t = shape_name(s.shape);
+  for (const double x : {s.mesh_size, s.radius, s.neck_half_width, s.centre.x, s.centre.y, s.centre.z, s.axis.x,
+                         s.axis.y, s.axis.z, s.lo.x, s.lo.y, s.lo.z, s.hi.x, s.hi.y, s.hi.z, s.inner_lo.x,
+                         s.inner_lo.y, s.inner_lo.z, s.inner_hi.x, s.inner_hi.y, s.inner_hi.z}) {
+    t += ' ';
+    append_number(t, x);
+  }
+  return t;
+}
 
 /// FNV-1a: a stable hash (std::hash is not) that names the cached files.
 std::uint64_t fnv1a(const std::string& text) {
@@ -373,60 +377,6 @@ std::uint64_t fnv1a(const std::string& text) {
   return hash;
 }
 
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::ostringstream out;
-  out << in.rdbuf();
-  return out.str();
-}
-
-void write_text(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-  out.close();
-  if (!out) throw output_error(path.string(), "cannot write a mesh file (gmsh.directory)");
-}
-
-/// The last `max_lines` lines of a log, for an error message.
-std::string tail(const std::string& text, std::size_t max_lines) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  std::string out;
-  for (std::size_t k = lines.size() > max_lines ? lines.size() - max_lines : 0; k < lines.size(); ++k)
-    out += lines[k] + "\n";
-  return out;
-}
-
-/// Runs `argv` with stdout and stderr sent to files; returns the exit status (or throws when it cannot start).
-int run_process(const std::vector<std::string>& argv, const std::filesystem::path& out,
-                const std::filesystem::path& err) {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  std::vector<char*> args;
-  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  pid_t pid = 0;
-  const int rc = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0) {
-    const std::string why = rc == ENOENT ? "not found: install Gmsh (Debian: apt-get install gmsh, or run "
-                                           "cmake/install-debian-deps.sh) or give its path"
-                                         : std::string("cannot be started: ") + std::strerror(rc);
-    throw input_error("gmsh.executable", argv[0], why);
-  }
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR)
-      throw input_error("gmsh.executable", argv[0], std::string("waitpid failed: ") + std::strerror(errno));
-  }
-  if (WIFEXITED(status)) return WEXITSTATUS(status);
-  return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
-}
-
 }  // namespace
 
 SimplexMesh mesh_shape(const ShapeSpec& spec, const GmshRun& run) {
@@ -434,48 +384,45 @@ SimplexMesh mesh_shape(const ShapeSpec& spec, const GmshRun& run) {
   if (run.msh_version != 22 && run.msh_version != 41)
     throw input_error("gmsh.msh_version", std::to_string(run.msh_version), "must be 22 or 41 (MSH 2.2 or 4.1)");
   if (run.directory.empty()) throw input_error("gmsh.directory", "\"\"", "must name a directory for the mesh files");
-  const std::string geo = shape_geo(spec);
+  validate_shape(spec);
   const int dim = shape_dimension(spec.shape);
-  const std::string format = run.msh_version == 22 ? "msh22" : "msh41";
-  const std::string dim_flag = dim == 2 ? "-2" : "-3";
 
   std::error_code ec;
   fs::create_directories(run.directory, ec);
   if (ec) throw output_error(run.directory, "cannot create the mesh directory (gmsh.directory): " + ec.message());
   char hash[17];
   std::snprintf(hash, sizeof hash, "%016llx",
-                static_cast<unsigned long long>(fnv1a(geo + "\n// " + dim_flag + " -format " + format)));
+                static_cast<unsigned long long>(fnv1a(spec_text(spec) + " msh" + std::to_string(run.msh_version) +
+                                                      " gmsh " + gmsh_version())));
   const fs::path base = fs::path(run.directory) / (std::string(shape_name(spec.shape)) + "-" + hash);
   const fs::path msh = base.string() + ".msh";
   if (run.reuse && fs::exists(msh)) return read_gmsh_msh(msh.string());
 
-  // Private names while Gmsh works, renamed into place when the mesh has been read back.
-  const std::string tmp = base.string() + ".tmp" + std::to_string(getpid());
-  const fs::path tmp_geo = tmp + ".geo", tmp_msh = tmp + ".msh", out_log = tmp + ".out", err_log = tmp + ".err";
-  write_text(tmp_geo, geo);
-  const int status = run_process(
-      {run.executable, tmp_geo.string(), dim_flag, "-format", format, "-o", tmp_msh.string()}, out_log, err_log);
-  const std::string what = std::string(shape_name(spec.shape)) + " mesh (" + tmp_geo.string() + ")";
-  auto gmsh_failed = [&](const std::string& why) {
-    std::string errors = read_text(err_log);
-    if (errors.empty()) errors = tail(read_text(out_log), 20);
-    return input_error("gmsh.executable", run.executable, why + " for the " + what + ":\n" + errors);
-  };
-  if (status != 0) throw gmsh_failed("exited with status " + std::to_string(status));
+  // A private name while Gmsh writes, renamed into place when the mesh has been read back, so concurrent
+  // runs never read half a file.
+  const fs::path tmp = base.string() + ".tmp" + std::to_string(getpid()) + ".msh";
+  const std::string what = std::string(shape_name(spec.shape)) + " mesh " + msh.string();
+  with_gmsh("gmsh", what, [&] {
+#if DEBRIS_HAVE_GMSH_API
+    add_geometry(spec);
+    gmsh::model::mesh::generate(dim);
+    gmsh::option::setNumber("Mesh.MshFileVersion", run.msh_version == 22 ? 2.2 : 4.1);
+    gmsh::write(tmp.string());
+#endif
+  });
+  // The mesh is the file's, read back: a run that meshes the shape and one that reuses the file get the same
+  // bits (Gmsh writes 16 significant digits, so a node read back may differ from Gmsh's own in the last bit).
   SimplexMesh mesh;
   try {
-    mesh = read_gmsh_msh(tmp_msh.string());
+    mesh = read_gmsh_msh(tmp.string());
   } catch (const InputError& e) {
-    throw gmsh_failed(std::string("wrote a mesh that cannot be used (") + e.what() + ")");
+    throw input_error("gmsh", what, std::string("Gmsh wrote a mesh that cannot be used (") + e.what() + ")");
   }
   if (mesh.dimension != dim)
-    throw gmsh_failed("wrote a mesh of dimension " + std::to_string(mesh.dimension) + ", not " + dim_flag.substr(1));
-  for (const auto& [from, to] : {std::pair{tmp_geo, fs::path(base.string() + ".geo")}, std::pair{tmp_msh, msh}}) {
-    fs::rename(from, to, ec);
-    if (ec) throw output_error(run.directory, "cannot rename " + from.string() + " there: " + ec.message());
-  }
-  fs::remove(out_log, ec);
-  fs::remove(err_log, ec);
+    throw input_error("gmsh", what,
+                      "Gmsh made a mesh of dimension " + std::to_string(mesh.dimension) + ", not " + std::to_string(dim));
+  fs::rename(tmp, msh, ec);
+  if (ec) throw output_error(run.directory, "cannot rename " + tmp.string() + " there: " + ec.message());
   return mesh;
 }
 

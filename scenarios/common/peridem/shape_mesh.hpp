@@ -1,6 +1,6 @@
 #pragma once
-// Reference meshes of grain and wall shapes, made by the Gmsh executable as PeriDEM makes them (paper B,
-// section 3.1): write a .geo script, run `gmsh -2|-3 -format msh22|msh41 -o file`, read the file back.
+// Reference meshes of grain and wall shapes, made in-process by Gmsh's C++ API (gmsh_api.hpp) from the
+// geometry PeriDEM's .geo scripts describe (paper B, section 3.1), written as an MSH file and read back.
 //
 // The 2D particle shapes use Gmsh's built-in kernel with the same points, curves and embedded centre
 // point as PeriDEM's own scripts (the .geo files in scenarios/peridem/data), so the meshes are the same:
@@ -16,7 +16,8 @@
 //    the neck vertex at 0.25 R (two_particle_concave_hex: R = 1.5 mm, deck parameter 0.75 mm, mesh vertex
 //    at 0.375 mm); a half width of 0.5 R would be the rectangle. compressive_small_set_ci uses w = 0.2 R.
 // Every point carries the mesh size h as its characteristic length, and the centre of the three shapes
-// above is embedded in the surface (`Point{1} In Surface{1}`), so the grain has a node at its centre.
+// above is embedded in the surface (the scripts' `Point{1} In Surface{1}`), so the grain has a node at its
+// centre.
 //
 // The rectangle [lo, hi] (2D, in the plane z = lo.z) is PeriDEM's wall script: four corner points carrying
 // h, built-in kernel. The others use Gmsh's OpenCASCADE kernel with Mesh.CharacteristicLengthMax = h:
@@ -24,8 +25,8 @@
 //    rectangles, each built from its corner points), e.g. the U-shaped container of the compressive tests,
 //    whose inner rectangle reaches the outer top edge;
 //  - sphere (radius R about x_c) and box [lo, hi] in 3D (OpenCASCADE's box is a corner plus its lengths).
-// Numbers go into the script with 17 significant digits, so it holds the given vertices exactly (Gmsh
-// writes the mesh with 16, so a vertex read back may differ from the given one in the last bit).
+// Gmsh writes the mesh with 16 significant digits, so a vertex read back may differ from the given one in
+// the last bit; the file is the mesh, so a run that reuses it gets the bits of the run that made it.
 #include <string>
 
 #include "core/io/gmsh_msh.hpp"
@@ -67,21 +68,17 @@ void validate_shape(const ShapeSpec& spec);
 /// The exact area (2D) or volume (3D) of the geometry itself (a circle's is pi R^2, not its mesh's).
 double shape_measure(const ShapeSpec& spec);
 
-/// The Gmsh .geo script of the shape (validates first).
-std::string shape_geo(const ShapeSpec& spec);
-
 struct GmshRun {
-  std::string directory;            // where the .geo and .msh files go (created if missing)
-  std::string executable = "gmsh";  // a name looked up on PATH, or a path
-  int msh_version = 22;             // 22 or 41: the MSH format Gmsh writes and we read back
-  bool reuse = true;                // read an existing mesh of the same script instead of running Gmsh
+  std::string directory;  // where the .msh files go (created if missing)
+  int msh_version = 22;   // 22 or 41: the MSH format Gmsh writes and we read back
+  bool reuse = true;      // read an existing mesh of the same shape instead of meshing it again
 };
 
-/// Meshes the shape with Gmsh and reads the mesh back. The files are named after the shape and a hash of
-/// the script and format (`circle-<hash>.geo/.msh`), so with `reuse` a shape is meshed once per directory.
-/// Gmsh writes to a temporary name that is renamed into place, so concurrent runs never read half a file.
-/// Throws InputError for a bad spec, when Gmsh is not installed (saying how to install it), and when it
-/// fails (with its exit status and error output).
+/// Meshes the shape with Gmsh's API and reads the mesh back. The file is named after the shape and a hash
+/// of its numbers, the format and Gmsh's version (`circle-<hash>.msh`), so with `reuse` a shape is meshed
+/// once per directory. Gmsh writes to a temporary name that is renamed into place, so concurrent runs never
+/// read half a file. Throws InputError for a bad spec, when debris was built without Gmsh's API (saying
+/// how to get it), and when Gmsh fails (with its messages).
 SimplexMesh mesh_shape(const ShapeSpec& spec, const GmshRun& run);
 
 }  // namespace debris
