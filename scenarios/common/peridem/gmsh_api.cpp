@@ -159,13 +159,16 @@ bool gmsh_api_available() { return false; }
 std::string gmsh_version() { return "none"; }
 
 void with_gmsh(const std::string& key, const std::string& value, const std::function<void()>&) {
-  throw input_error(key, value,
-                    "needs Gmsh's C++ API, and this debris was built without it: install it (Debian: apt-get "
-                    "install libgmsh-dev, or cmake/install-debian-deps.sh), configure and build again; or mesh "
-                    "the shape with Gmsh yourself and give the MSH file");
+  throw input_error(key, value, gmsh_api_missing());
 }
 
 #endif
+
+std::string gmsh_api_missing() {
+  return "a shape is meshed by Gmsh's C++ API, and this debris was built without it: install it (Debian: "
+         "apt-get install libgmsh-dev, or cmake/install-debian-deps.sh), configure and build again; or mesh "
+         "the shape with Gmsh yourself and give the MSH file (type: mesh_file)";
+}
 
 namespace {
 

@@ -17,7 +17,10 @@ namespace debris {
 /// Whether this build has Gmsh's API (libgmsh-dev was found when it was configured).
 bool gmsh_api_available();
 
-/// Gmsh's version ("4.8.4"), or "none" without the API.
+/// Why a shape cannot be meshed in a build without the API, and what to do (for an input error).
+std::string gmsh_api_missing();
+
+/// The version of Gmsh's API ("4.8.0"), or "none" without it.
 std::string gmsh_version();
 
 /// Runs `work` on a fresh, empty Gmsh model while holding Gmsh. Gmsh is initialised on first use without

@@ -87,6 +87,7 @@ ShapeInput read_shape(const InputNode& n, const std::string& name, const std::st
     s.file = resolve_input_path(n.string("file"), base);
     return s;
   }
+  if (!gmsh_api_available()) throw input_error(s.path + ".type", type, gmsh_api_missing());
   const double h = n.quantity("mesh_size", u::length);
   require_positive(h, s.path + ".mesh_size");
   ShapeSpec& sp = s.spec;
