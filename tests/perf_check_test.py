@@ -10,6 +10,7 @@ Python 3 standard library only.
 """
 import json
 import os
+import shutil
 import stat
 import subprocess
 import sys
@@ -226,14 +227,45 @@ class PerfCheckTest(unittest.TestCase):
         self.assertIn("passed", out)
         self.assertNotIn("REGRESSION", out)
 
-    # 6. Only a foreign CPU kind in the file: skipped, exit 0, even if the rates would be a regression there.
-    def test_check_foreign_kind_only_is_skipped(self):
+    # 6. Only a foreign CPU kind in the file: never skipped; judged A/B against a base build (perf_ab.py),
+    #    whatever the foreign entry says.
+    def make_base_bench(self, spec):
+        base_dir = os.path.join(self.dir, "base")
+        os.makedirs(base_dir, exist_ok=True)
+        path = os.path.join(base_dir, "fake_debris_bench")
+        shutil.copy(self.bench, path)
+        with open(os.path.join(base_dir, "rates.json"), "w") as f:
+            json.dump(spec, f)
+        return path
+
+    def test_check_foreign_kind_only_is_judged_against_the_base(self):
         self.write_baseline({"baselines": [make_entry(FOREIGN_KIND, rates_spec({STEP: 10.0}))]})
-        status, out = self.run_check()
+        base = self.make_base_bench(rates_spec({STEP: 1.05}))  # 5% faster than this build: noise, passes
+        status, out = self.run_check("--ab-base-bench", base)
         self.assertEqual(status, 0, out)
-        self.assertIn("skipped", out)
-        self.assertNotIn("REGRESSION", out)
+        self.assertNotIn("skipped", out)
         self.assertIn(FOREIGN_KIND[0], out)
+        self.assertIn("perf_ab: passed", out)
+        self.assertIn("round 5", out)
+        self.assertNotIn("REGRESSION", out)
+
+    def test_ab_30_percent_slower_than_the_base_fails(self):
+        self.write_baseline({"baselines": [make_entry(FOREIGN_KIND, rates_spec())]})
+        base = self.make_base_bench(rates_spec({STEP: 1.0 / 0.7}))  # this build's step 30% slower
+        status, out = self.run_check("--ab-base-bench", base)
+        self.assertEqual(status, 1, out)
+        self.assertIn("REGRESSION", out)
+        self.assertIn("perf_ab: FAILED", out)
+        self.assertIn("round 9", out)  # measured again before failing
+        self.assertIn(STEP, out.split("perf_ab: FAILED")[1])
+        # The cohesive pass, unchanged, is not blamed.
+        self.assertNotIn(SUBSET[0] if SUBSET[0] != STEP else SUBSET[1], out.split("perf_ab: FAILED")[1])
+
+    def test_ab_base_commit_missing_from_the_clone_exits_2(self):
+        self.write_baseline({"baselines": [make_entry(FOREIGN_KIND, rates_spec())]})
+        status, out = self.run_check("--ab-base", "0123456789abcdef0123456789abcdef01234567")
+        self.assertEqual(status, 2, out)
+        self.assertIn("not in this clone", out)
 
     # 7. Old format (one entry at the top level, this CPU kind) is still read; and still judges.
     def test_old_format_is_read(self):
