@@ -133,10 +133,29 @@ inline void sweep_rows(const PairInputs &in, int k_begin, int k_end, ChunkBuffer
 void HalfPassScratch::index(const NeighborList &list) {
   const int n = list.rows(), m = list.entries();
   const int *offset = list.offset().data();
-  const int *col = list.index().data();
   resize_for_overwrite(row_of, static_cast<std::size_t>(m));
   for (int i = 0; i < n; ++i)
     for (int k = offset[i]; k < offset[i + 1]; ++k) row_of[static_cast<std::size_t>(k)] = i;
+  // Row blocks of about kBlockPairs pairs, whole rows each, so a row's own sum is made by one thread.
+  block_row.assign(1, 0);
+  for (int i = 0; i < n; ++i)
+    if (offset[i + 1] - offset[block_row.back()] >= kBlockPairs) block_row.push_back(i + 1);
+  if (block_row.back() != n) block_row.push_back(n);
+  // The shares' index and buffer only where more than one thread sums: one thread adds each partner share
+  // on the spot, and the buffer (6 doubles per pair, 315 of 904 B per particle at N = 32,000) would be
+  // memory it never touches. A step on more threads builds them if the count rose since (index_shares).
+  if (exec::threads() > 1) {
+    index_shares(list);
+  } else {
+    for (std::vector<int> *v : {&in_offset, &in_entry}) std::vector<int>().swap(*v);
+    std::vector<double>().swap(partner);
+    shares_indexed = false;
+  }
+}
+
+void HalfPassScratch::index_shares(const NeighborList &list) {
+  const int n = list.rows(), m = list.entries();
+  const int *col = list.index().data();
   // Counting sort of the pairs by partner; the pairs of one partner keep increasing k.
   in_offset.assign(static_cast<std::size_t>(n) + 1, 0);
   for (int k = 0; k < m; ++k) ++in_offset[static_cast<std::size_t>(col[k]) + 1];
@@ -145,11 +164,7 @@ void HalfPassScratch::index(const NeighborList &list) {
   std::vector<int> fill(in_offset.begin(), in_offset.end() - 1);
   for (int k = 0; k < m; ++k) in_entry[static_cast<std::size_t>(fill[static_cast<std::size_t>(col[k])]++)] = k;
   resize_for_overwrite(partner, static_cast<std::size_t>(kShareStride) * static_cast<std::size_t>(m));
-  // Row blocks of about kBlockPairs pairs, whole rows each, so a row's own sum is made by one thread.
-  block_row.assign(1, 0);
-  for (int i = 0; i < n; ++i)
-    if (offset[i + 1] - offset[block_row.back()] >= kBlockPairs) block_row.push_back(i + 1);
-  if (block_row.back() != n) block_row.push_back(n);
+  shares_indexed = true;
 }
 
 std::size_t HalfPassScratch::bytes() const {
@@ -190,9 +205,6 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
   const int blocks = static_cast<int>(s.block_row.size()) - 1;
   const int *__restrict block_row = s.block_row.data();
   const int *__restrict offset = list.offset().data();
-  const int *__restrict in_entry = s.in_entry.data();
-  const int *__restrict in_offset = s.in_offset.data();
-  double *__restrict partner = s.partner.data();
   double *__restrict fx = p.fx.data(), *__restrict fy = p.fy.data(), *__restrict fz = p.fz.data();
   double *__restrict tx = p.tx.data(), *__restrict ty = p.ty.data(), *__restrict tz = p.tz.data();
   // Each particle's force (and torque) is R + P: R its row's own shares summed in increasing k, P the
@@ -232,6 +244,10 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
   // Two or more threads (host threads only: this is the host pass; offload builds use the full-list pass):
   // rows in blocks, one per thread at a time, partner shares filed at the pair's index and gathered per
   // particle afterwards; both phases in one parallel region, the loop barrier between them.
+  if (!s.shares_indexed) s.index_shares(list);  // the thread count rose since the list was built
+  const int *__restrict in_entry = s.in_entry.data();
+  const int *__restrict in_offset = s.in_offset.data();
+  double *__restrict partner = s.partner.data();
   DEBRIS_HOST_PARALLEL {
     ChunkBuffer c;  // per thread, on its stack
     // Phase 1: blocks of whole rows; each in chunks (the chunk loop is the vector loop), after which the

@@ -28,13 +28,17 @@ struct HalfPassScratch {
   static constexpr int kShareStride = 6;   // force on i (the partner gets its negative), torque on j
   static constexpr int kBlockPairs = 1024; // phase-1 work unit: whole rows, about this many pairs
   std::vector<int> row_of;      // i of each pair k
+  std::vector<int> block_row;   // phase-1 blocks: rows block_row[b] .. block_row[b+1]
+  // Only where more than one thread sums (shares_indexed); empty on one thread, which never files shares:
   std::vector<int> in_offset;   // pairs where particle j is the partner: in_entry[in_offset[j] .. in_offset[j+1])
   std::vector<int> in_entry;    // ... in increasing k
   std::vector<double> partner;  // kShareStride doubles per pair k
-  std::vector<int> block_row;   // phase-1 blocks: rows block_row[b] .. block_row[b+1]
+  bool shares_indexed = false;
 
-  /// Rebuilds the indices (after every list rebuild).
+  /// Rebuilds the indices (after every list rebuild); the shares' only when exec::threads() > 1.
   void index(const NeighborList& list);
+  /// The shares' index and buffer (a multi-thread pass calls it when the thread count rose since index()).
+  void index_shares(const NeighborList& list);
   std::size_t bytes() const;
 };
 
