@@ -1,0 +1,318 @@
+#include "scenarios/common/dem/dem_run.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include "core/error.hpp"
+#include "core/exec.hpp"
+#include "core/io/dump_writer.hpp"
+#include "core/io/hdf5_file.hpp"
+#include "core/io/thermo_csv.hpp"
+#include "core/io/trajectory_writer.hpp"
+#include "kernels/dem/integrate.hpp"
+#include "scenarios/common/run/checkpoint_file.hpp"
+#include "scenarios/common/dem/dem_input.hpp"
+#include "scenarios/common/dem/run_pictures.hpp"
+#include "scenarios/common/run/runner.hpp"
+
+namespace debris {
+
+namespace {
+
+std::vector<std::string> dem_thermo_columns(const Groups& groups) {
+  std::vector<std::string> c{"step", "time", "kinetic_energy", "elastic_energy", "max_overlap", "interacting_pairs"};
+  for (const Group& g : groups.list)
+    for (const char* q : {"fx", "fy", "fz", "dx", "dy", "dz"}) c.push_back(g.name + "_" + q);
+  return c;
+}
+
+std::vector<double> dem_thermo_row(const DemSimulation& sim, const CohesiveDiagnostics& d) {
+  const ParticleTotals t = particle_totals(sim.particles());
+  std::vector<double> row{static_cast<double>(sim.step_count()), sim.time(), t.kinetic_energy, d.elastic_energy,
+                          d.max_overlap, static_cast<double>(d.interacting_pairs)};
+  for (const Group& g : sim.groups().list)
+    for (double v : {g.reaction.x, g.reaction.y, g.reaction.z, g.displacement.x, g.displacement.y, g.displacement.z})
+      row.push_back(v);
+  return row;
+}
+
+// One terminal line per thermo row; each column as wide as its name, so the header lines up.
+void dem_print_thermo(const std::vector<std::string>& cols, const std::vector<double>& row, bool header) {
+  auto width = [&](std::size_t k) { return static_cast<int>(std::max<std::size_t>(cols[k].size(), 12) + 1); };
+  if (header) {
+    for (std::size_t k = 0; k < cols.size(); ++k) std::cout << std::setw(width(k)) << cols[k];
+    std::cout << "\n";
+  }
+  for (std::size_t k = 0; k < row.size(); ++k) {
+    if (k == 0) std::cout << std::setw(width(k)) << static_cast<long>(row[k]);
+    else std::cout << std::setw(width(k)) << std::setprecision(6) << row[k];
+  }
+  std::cout << std::endl;
+}
+
+// debris_dem's side of the runner: a DemSimulation with its thermo columns, dump and trajectory frames,
+// health check and stage changes.
+// What a checkpoint keeps of the run beside the system (its `run` group): the health check's limit as it
+// was in force, and the wear analysis's state, so a restart checks and reports as the run in one piece.
+struct DemRunState {
+  std::optional<double> overlap_limit;
+  std::optional<WearState> wear;
+};
+
+void write_run_state(h5::File& f, double overlap_limit, const std::optional<WearAnalysis>& wear) {
+  h5::Group run = f.create_group("run");
+  run.write_scalar<double>("overlap_limit", overlap_limit);
+  if (wear) write_wear_state(run, wear->state());
+}
+
+DemRunState read_run_state(const h5::File& f) {
+  DemRunState st;
+  if (!f.has("run")) return st;  // checkpoints from before 2026-12-03
+  const h5::Group run = f.open_group("run");
+  st.overlap_limit = run.read_scalar<double>("overlap_limit");
+  if (!(*st.overlap_limit > 0) || !std::isfinite(*st.overlap_limit))
+    throw unsound_checkpoint(f.file_path(), "run/overlap_limit is not a positive number");
+  st.wear = read_wear_state(run);
+  return st;
+}
+
+class DemRunModel final : public RunModel {
+ public:
+  DemRunModel(DemSimulation sim, DemRunConfig cfg, DemRunState restored = {}, std::string checkpoint = {})
+      : sim_(std::move(sim)), cfg_(std::move(cfg)) {
+    // `auto`: the deepest overlap the run started with, plus one smallest radius (the patch tests' allowance
+    // for a sample that fractures and snaps back); a restart keeps the limit of the run it continues.
+    if (cfg_.overlap_limit_auto && restored.overlap_limit) {
+      overlap_limit_ = *restored.overlap_limit;
+    } else if (cfg_.overlap_limit_auto) {
+      const auto& r = sim_.particles().radius;
+      overlap_limit_ = sim_.diagnostics().max_overlap / *std::min_element(r.begin(), r.end()) + 1.0;
+    } else {
+      overlap_limit_ = cfg_.overlap_limit;
+    }
+    if (cfg_.wear) {
+      wear_.emplace(*cfg_.wear, sim_);
+      if (restored.wear) {
+        wear_->restore(*restored.wear, checkpoint);
+        wear_restored_ = true;
+      }
+    }
+  }
+  std::string describe() const {
+    std::ostringstream os;
+    os << sim_.summary() << "\nhealth check: overlaps deeper than " << overlap_limit_ << " smallest radii stop the run"
+       << (cfg_.overlap_limit_auto ? " (auto: the deepest initial overlap + 1)" : "");
+    return os.str();
+  }
+
+  long step_count() const override { return sim_.step_count(); }
+  double time() const override { return sim_.time(); }
+  void step() override {
+    sim_.step();
+    if (wear_ && sim_.step_count() % cfg_.wear->every == 0) sample_wear();
+  }
+  std::size_t items() const override { return sim_.particle_count(); }  // every step: no transfer
+  const char* item_name() const override { return "particle"; }
+
+  std::string setup_key() const override { return "particles"; }
+  std::string health_check() override {
+    diag_ = sim_.diagnostics();
+    diag_step_ = sim_.step_count();
+    return sim_.health_check(*diag_, overlap_limit_);
+  }
+  std::vector<std::string> thermo_columns() const override { return dem_thermo_columns(sim_.groups()); }
+  std::vector<double> thermo_row() override {
+    if (!diag_ || diag_step_ != sim_.step_count()) {
+      diag_ = sim_.diagnostics();
+      diag_step_ = sim_.step_count();
+    }
+    return dem_thermo_row(sim_, *diag_);
+  }
+  void print_thermo(const std::vector<std::string>& cols, const std::vector<double>& row, bool header) const override {
+    dem_print_thermo(cols, row, header);
+  }
+
+  void open_frames(const std::string& dir, const std::string& suffix) override {
+    namespace fs = std::filesystem;
+    output_dir_ = dir;
+    if (cfg_.output.pictures && suffix.empty()) write_side_view(dir, "side_start", sim_.particles(), picture_units());
+    dump_.emplace((fs::path(dir) / ("dump" + suffix + ".lammpstrj")).string());
+    std::vector<std::string> names;
+    for (const Group& g : sim_.groups().list) names.push_back(g.name);
+    trajectory_.emplace(dir, "trajectory" + suffix, names);
+    if (wear_) {
+      // A restart continues wear.csv from the analysis's state in the checkpoint, which holds the sample
+      // of its own step when one was due.
+      const std::string path = (fs::path(dir) / "wear.csv").string();
+      wear_csv_.emplace(suffix.empty() ? ThermoCsv(path, WearAnalysis::columns())
+                                       : ThermoCsv(path, WearAnalysis::columns(), sim_.step_count()));
+      if (suffix.empty()) {
+        sample_wear();
+      } else if (!wear_restored_) {
+        // A checkpoint without the analysis (written before 2026-12-03, or by a run without `wear:`).
+        std::cout << "wear analysis: the checkpoint holds no wear state; it starts afresh at the restart (its "
+                     "window and bonds count from here)\n";
+        sample_wear(false);
+      }
+    }
+  }
+  bool frame_due(long step) const override { return due(cfg_.output.dump_every, step) || due(trajectory_every(), step); }
+  void write_frame(bool every_stream) override {
+    const long step = sim_.step_count();
+    if (every_stream || due(cfg_.output.dump_every, step)) dump_->write_frame(step, sim_.box(), sim_.particles());
+    if (every_stream || due(trajectory_every(), step))
+      trajectory_->write_frame(step, sim_.time(), sim_.box(), sim_.particles());
+  }
+  std::string frame_files(const std::string& suffix) const override {
+    return "dump" + suffix + ".lammpstrj, trajectory" + suffix + ".xmf + .h5" + (wear_ ? ", wear.csv" : "") +
+           (cfg_.output.pictures ? ", side_view.png, tangential_force.png" : "");
+  }
+  void write_checkpoint(const std::string& path, const std::string& input) const override {
+    sim_.write_checkpoint(path, input, [&](h5::File& f) { write_run_state(f, overlap_limit_, wear_); });
+  }
+
+  std::string apply_stage(int k) override {
+    const DemStageChanges& c = cfg_.stage_changes[static_cast<std::size_t>(k)];
+    std::ostringstream os;
+    if (c.global_damping) {
+      sim_.set_global_damping(*c.global_damping);
+      os << "global damping " << *c.global_damping << " c_c; ";
+    }
+    if (c.adhesive || c.tangential) {
+      CohesiveOptions o = sim_.settings().options;
+      if (c.adhesive) o.adhesive = *c.adhesive ? 1 : 0;
+      if (c.tangential) o.tangential = *c.tangential ? 1 : 0;
+      sim_.set_options(o);
+      os << "adhesive " << (o.adhesive ? "on" : "off") << ", tangential " << (o.tangential ? "on" : "off") << "; ";
+    }
+    for (const DemStageChanges::GroupChange& gc : c.groups) {
+      Group& g = sim_.groups().list[static_cast<std::size_t>(gc.group)];
+      const Vec3 moving = g.velocity;
+      g.motion = gc.motion.motion;
+      g.velocity = gc.motion.velocity;
+      g.external_force = gc.motion.external_force;
+      g.prescribed = gc.motion.prescribed;
+      if (gc.keep_velocity) {  // the load-driven axes go on as they were moving
+        if (!g.prescribed[0]) g.velocity.x = moving.x;
+        if (!g.prescribed[1]) g.velocity.y = moving.y;
+        if (!g.prescribed[2]) g.velocity.z = moving.z;
+      }
+      os << "group " << g.name << " " << motion_name(g.motion) << "; ";
+    }
+    // The changes act on this step's forces too (damping, reactions), as they would have at set-up.
+    sim_.recompute_forces();
+    std::string what = os.str();
+    return what.empty() ? what : what.substr(0, what.size() - 2);
+  }
+
+  std::vector<PassTime> pass_times() const override {
+    const PassTimes& t = sim_.times();
+    std::string rebuilds = "(";  // appended, not "(" + ... + ...: GCC 12 warns falsely (-Wrestrict) on that
+    rebuilds += std::to_string(t.rebuilds);
+    rebuilds += " rebuilds in all, binning included)";
+    std::vector<PassTime> rows{
+        {"neighbours", t.neighbours, rebuilds},
+        {"contact", t.contact, ""},
+        {"integration", t.integration, ""},
+        {"groups/damp", t.other, ""}};
+    if (wear_) rows.push_back({"wear", wear_seconds_, "(bonds, clusters, rigid fits: wear.csv)"});
+    return rows;
+  }
+  std::string closing_report() override {
+    std::string report = wear_ ? wear_->report() : std::string();
+    if (cfg_.output.pictures) {
+      write_side_view(output_dir_, "side_end", sim_.particles(), picture_units());
+      if (!report.empty()) report += '\n';
+      const auto& r = sim_.particles().radius;
+      report += draw_run_pictures(output_dir_, sim_.groups(), picture_units(), sim_.box().lo(), sim_.box().hi(),
+                                  r.empty() ? 0.0 : *std::max_element(r.begin(), r.end()));
+    }
+    return report;
+  }
+
+ private:
+  static bool due(long every, long step) { return every > 0 && step % every == 0; }
+  void sample_wear(bool write = true) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const WearSample& w = wear_->sample(sim_);
+    if (wear_csv_ && write) wear_csv_->write_row(WearAnalysis::row(w));
+    wear_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  static const char* motion_name(GroupMotion m) {
+    switch (m) {
+      case GroupMotion::free: return "free";
+      case GroupMotion::frozen: return "frozen";
+      case GroupMotion::velocity: return "velocity";
+      case GroupMotion::force: return "force";
+    }
+    return "?";
+  }
+  PictureUnits picture_units() const {
+    const Vec3 extent = sim_.box().hi() - sim_.box().lo();
+    return PictureUnits::for_extent(std::max({extent.x, extent.y, extent.z}));
+  }
+  long trajectory_every() const {
+    return cfg_.output.trajectory_every > 0 ? cfg_.output.trajectory_every : cfg_.output.dump_every;
+  }
+
+  DemSimulation sim_;
+  DemRunConfig cfg_;
+  double overlap_limit_ = 0.5;
+  std::optional<CohesiveDiagnostics> diag_;
+  long diag_step_ = -1;
+  std::optional<DumpWriter> dump_;
+  std::optional<TrajectoryWriter> trajectory_;
+  std::optional<WearAnalysis> wear_;
+  std::optional<ThermoCsv> wear_csv_;
+  std::string output_dir_;
+  bool wear_restored_ = false;
+  double wear_seconds_ = 0;
+};
+
+}  // namespace
+
+RunPlan prepare_dem_run(const RunOptions& opt) {
+  // On restart the system and its physics come from the checkpoint (no data file is read); run.steps (a
+  // total), run.threads, the health check, stages, the wear analysis and output from the input.
+  std::string echo;
+  std::optional<DemSimulation> restored;
+  DemRunState run_state;
+  if (!opt.restart.empty())
+    restored.emplace(DemSimulation::from_checkpoint(opt.restart, &echo,
+                                                    [&](const h5::File& f) { run_state = read_run_state(f); }));
+  const InputSource in = input_source(opt, echo);
+  DemInputOptions io;
+  if (restored) {
+    io.restored = &*restored;
+    io.checkpoint_echo = echo;
+  }
+  DemRunConfig cfg = read_dem_input_text(in.text, in.name, in.base_directory, io);
+  if (!opt.output.empty()) cfg.output.directory = opt.output;
+  const exec::ThreadRequest threads = exec::request_threads(opt.threads, cfg.threads);
+  std::cout << exec::startup_report() << "\n" << exec::describe(threads) << "\n";
+  print_input_notes(std::cout, cfg.ignored_at_restart, cfg.plain_quantities);
+
+  // The system is validated here (radii, time step against eq 6, ...) before any file is opened.
+  DemSimulation sim = restored ? std::move(*restored)
+                               : DemSimulation(cfg.box, std::move(cfg.particles), std::move(cfg.groups), cfg.settings);
+  for (std::size_t k = 0; k < cfg.stage_changes.size(); ++k) {
+    const DemStageChanges& c = cfg.stage_changes[k];
+    if (c.global_damping) sim.check_global_damping(*c.global_damping, "stages[" + std::to_string(k) + "].global_damping");
+    for (const DemStageChanges::GroupChange& gc : c.groups)
+      if (static_cast<std::size_t>(gc.group) >= sim.groups().size() ||
+          sim.groups().list[static_cast<std::size_t>(gc.group)].name != gc.motion.name)
+        throw input_error("stages.groups.name", gc.motion.name, "is not a group of the checkpoint's system");
+  }
+  RunPlan plan = make_run_plan(cfg, sim.dt(), restored.has_value(), threads, in.text);
+  auto model = std::make_unique<DemRunModel>(std::move(sim), std::move(cfg), std::move(run_state), opt.restart);
+  std::cout << model->describe() << "\n";
+  plan.model = std::move(model);
+  return plan;
+}
+
+}  // namespace debris
