@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/error.hpp"  // kExitInput, kExitUnfinished
+#include "core/pass_timer.hpp"  // WallClock
 #include "core/thread_tuner.hpp"
 #include "scenarios/common/run/stages.hpp"
 
@@ -136,6 +137,32 @@ InputSource input_source(const RunOptions& options, const std::string& checkpoin
 /// plain numbers beside others with units (a note). Nothing for empty lists.
 void print_input_notes(std::ostream& out, const std::vector<std::string>& ignored_at_restart,
                        const std::vector<std::string>& plain_quantities);
+
+/// One run of a plan, step by step: what run_main does between the set-up and the exit, for drivers that
+/// step a run themselves (the Python module of issue 28). start() checks the set-up (InputError when it
+/// cannot run, before anything is written), opens the outputs and writes the first step's; advance(n) makes
+/// at most n steps, never past the plan's last, each with its checks, outputs, stage changes and progress
+/// line; finish(), once done(), prints the closing report and the pass table. Each returns an exit status: 0,
+/// or kExitUnfinished when the run stopped (a failed check, an output that cannot be written; the message
+/// names the step and the last good checkpoint), after which the run must not be advanced again.
+class Run {
+ public:
+  Run(RunPlan plan, std::string program, RunOptions options, WallClock::time_point started);
+  ~Run();
+  Run(const Run&) = delete;
+  Run& operator=(const Run&) = delete;
+
+  int start();
+  int advance(long max_steps);
+  int finish();
+  bool done() const;
+  long last_step() const;
+  RunModel& model();
+
+ private:
+  struct State;
+  std::unique_ptr<State> s_;
+};
 
 /// Parses the command line, calls `prepare` (reads the input or the checkpoint, chooses the threads,
 /// builds and validates the system; InputError for bad input), then runs. Returns the exit status. `example`
