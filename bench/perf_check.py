@@ -26,7 +26,7 @@ The baseline file (bench/perf_baseline.json) holds one baseline per kind of CPU 
 level: the ratio of a pair kernel to a triad and a sqrt chain depends on the microarchitecture and on the
 compiler). A machine of a kind the file does not have is judged by bench/perf_ab.py instead: the base
 commit (bench/perf_base_commit) built and run side by side with this build, paired rounds, so the check
-never passes by skipping (about 5 minutes more on such a machine). Refreshing is
+never passes by skipping (about 2 minutes more on such a machine, measured). Refreshing is
 done on purpose, never automatically: after an intended change of speed (a faster kernel: tighten; an
 accepted slowdown: say why), after changing BM_ReferenceLoop, the benchmark system or SUBSET, or to add a
 kind of CPU CI now runs on. --update replaces this kind's entry and keeps the others. Run, from the
