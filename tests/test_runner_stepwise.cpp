@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
 #include <string>
 
@@ -34,10 +35,18 @@ int run_in_chunks(const std::function<RunPlan(const RunOptions&)>& prepare, cons
   return run.finish();
 }
 
-void expect_same_run(const fs::path& a, const fs::path& b) {
-  EXPECT_EQ(test::slurp(a / "thermo.csv"), test::slurp(b / "thermo.csv"));
-  EXPECT_FALSE(test::slurp(a / "thermo.csv").empty());
-  EXPECT_EQ(test::slurp(a / "checkpoint.h5").size(), test::slurp(b / "checkpoint.h5").size());
+/// The executable's run of `input` and Run's in chunks, each into its own folder of `d`: the same thermo.csv.
+void expect_chunks_equal_executable(const std::string& executable,
+                                    const std::function<RunPlan(const RunOptions&)>& prepare,
+                                    const std::string& input, const fs::path& d) {
+  const test::CommandResult exe =
+      test::run_command(executable, "-i " + input + " -o " + (d / "exe").string() + " --threads 1");
+  ASSERT_EQ(exe.exit_code, 0) << exe.output;
+  ASSERT_EQ(run_in_chunks(prepare, input, (d / "chunks").string()), 0);
+  const std::string thermo = test::slurp(d / "exe" / "thermo.csv");
+  EXPECT_FALSE(thermo.empty());
+  EXPECT_EQ(test::slurp(d / "chunks" / "thermo.csv"), thermo);
+  EXPECT_EQ(test::slurp(d / "chunks" / "checkpoint.h5").size(), test::slurp(d / "exe" / "checkpoint.h5").size());
 }
 
 TEST(RunnerStepwise, DemRunInChunksEqualsTheExecutablesRun) {
@@ -46,12 +55,7 @@ TEST(RunnerStepwise, DemRunInChunksEqualsTheExecutablesRun) {
   text = test::replace(test::replace(text, "steps: 4000", "steps: 300"), "thermo_every: 200", "thermo_every: 20");
   ASSERT_NE(text.find("steps: 300"), std::string::npos);
   ASSERT_NE(text.find("thermo_every: 20\n"), std::string::npos);
-  const std::string input = test::write_text_file(d, "dem.yaml", text);
-  const test::CommandResult exe =
-      test::run_command(DEBRIS_DEM_EXECUTABLE, "-i " + input + " -o " + (d / "exe").string() + " --threads 1");
-  ASSERT_EQ(exe.exit_code, 0) << exe.output;
-  ASSERT_EQ(run_in_chunks(prepare_dem_run, input, (d / "chunks").string()), 0);
-  expect_same_run(d / "exe", d / "chunks");
+  expect_chunks_equal_executable(DEBRIS_DEM_EXECUTABLE, prepare_dem_run, test::write_text_file(d, "dem.yaml", text), d);
 }
 
 TEST(RunnerStepwise, PeridemRunInChunksEqualsTheExecutablesRun) {
@@ -61,12 +65,8 @@ TEST(RunnerStepwise, PeridemRunInChunksEqualsTheExecutablesRun) {
     text.replace(at, 11, "file: " + kSource + "/scenarios/peridem/data/");
   text = test::replace(test::replace(text, "steps: 20000", "steps: 300"), "thermo_every: 200", "thermo_every: 20");
   ASSERT_NE(text.find("steps: 300"), std::string::npos);
-  const std::string input = test::write_text_file(d, "peridem.yaml", text);
-  const test::CommandResult exe =
-      test::run_command(DEBRIS_PERIDEM_EXECUTABLE, "-i " + input + " -o " + (d / "exe").string() + " --threads 1");
-  ASSERT_EQ(exe.exit_code, 0) << exe.output;
-  ASSERT_EQ(run_in_chunks(prepare_peridem_run, input, (d / "chunks").string()), 0);
-  expect_same_run(d / "exe", d / "chunks");
+  expect_chunks_equal_executable(DEBRIS_PERIDEM_EXECUTABLE, prepare_peridem_run,
+                                 test::write_text_file(d, "peridem.yaml", text), d);
 }
 
 }  // namespace
