@@ -173,10 +173,11 @@ std::string gmsh_api_missing() {
 namespace {
 
 /// ASCII MSH 2.2 or 4.1, the two formats debris's own reader knows, judged from the $MeshFormat line; a
-/// file that is not MSH at all (no $MeshFormat) also goes to that reader, for its error, unless Gmsh may
-/// read it as another format (its name does not end in .msh).
+/// file that cannot be opened, or is not MSH at all (no $MeshFormat), also goes to that reader, for its
+/// error, unless Gmsh may read it as another format (its name does not end in .msh).
 bool own_reader_format(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
+  if (!in) return true;  // its "cannot be opened" error (Gmsh would read an empty model, without one)
   std::string first, version, file_type;
   std::getline(in, first);
   if (!first.empty() && first.back() == '\r') first.pop_back();
@@ -190,10 +191,6 @@ bool own_reader_format(const std::string& path) {
 SimplexMesh read_mesh_file(const std::string& path) {
   if (!gmsh_api_available() || own_reader_format(path)) return read_gmsh_msh(path);
 #if DEBRIS_HAVE_GMSH_API
-  {
-    std::ifstream probe(path);
-    if (!probe) return read_gmsh_msh(path);  // its "cannot be opened" error
-  }
   SimplexMesh m;
   with_gmsh("mesh file", path, [&] {
     gmsh::open(path);

@@ -56,7 +56,7 @@ struct Run::State {
   Clock::time_point t0;
   long last_checkpoint = -1;
   std::optional<Progress> progress;
-  bool started_outputs = false, finished = false;
+  bool started_outputs = false;
 
   RunModel& model() { return *plan.model; }
 
@@ -287,7 +287,6 @@ int Run::finish() {
                 << (steps > 0 ? s.step_bytes / steps : 0.0) << " B per step (outputs and checks left out)\n";
     std::cout << "output written to " << s.dir.string() << "/ (thermo.csv, " << model.frame_files(s.suffix)
               << ", checkpoint.h5)\n";
-    s.finished = true;
     return 0;
   });
 }
