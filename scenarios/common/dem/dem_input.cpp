@@ -228,6 +228,13 @@ DemStageChanges read_stage_changes(const InputNode& st, const DemRunConfig& cfg)
       change.motion = cfg.groups.list[static_cast<std::size_t>(change.group)];
       read_group_motion(g, cfg.box, change.motion);
       change.keep_velocity = change.motion.motion == GroupMotion::force && !g.has("initial_velocity");
+      if (g.has("set_velocity")) {
+        if (change.motion.motion != GroupMotion::free)
+          throw input_error(key_path(g, "set_velocity"), vector_text(g, "set_velocity"),
+                            "only a free group's members take a velocity of their own; a rigid group moves "
+                            "with its 'velocity' (motion: velocity) or its load (motion: force)");
+        change.set_velocity = g.vec3("set_velocity", units::velocity);
+      }
       c.groups.push_back(change);
     }
   }

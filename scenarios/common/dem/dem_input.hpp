@@ -44,10 +44,13 @@ struct DemStageChanges {
   std::optional<bool> adhesive, tangential;
   /// Group index and its new motion (name and members unchanged). `keep_velocity`: a force group whose
   /// stage gives no initial_velocity keeps moving as it was on its load-driven (not prescribed) axes.
+  /// `set_velocity`: a free group's members all get this velocity at the stage's start (LAMMPS's `velocity
+  /// group set`; a projectile launched after settling), their spins and positions untouched.
   struct GroupChange {
     int group = -1;
     Group motion;
     bool keep_velocity = false;
+    std::optional<Vec3> set_velocity;
   };
   std::vector<GroupChange> groups;
 };

@@ -83,6 +83,8 @@ DemRunState read_run_state(const h5::File& f) {
 
 class DemRunModel final : public RunModel {
  public:
+  DemSimulation& simulation() { return sim_; }
+  const WearAnalysis* wear() const { return wear_ ? &*wear_ : nullptr; }
   DemRunModel(DemSimulation sim, DemRunConfig cfg, DemRunState restored = {}, std::string checkpoint = {})
       : sim_(std::move(sim)), cfg_(std::move(cfg)) {
     // `auto`: the deepest overlap the run started with, plus one smallest radius (the patch tests' allowance
@@ -202,7 +204,19 @@ class DemRunModel final : public RunModel {
         if (!g.prescribed[1]) g.velocity.y = moving.y;
         if (!g.prescribed[2]) g.velocity.z = moving.z;
       }
-      os << "group " << g.name << " " << motion_name(g.motion) << "; ";
+      os << "group " << g.name << " " << motion_name(g.motion);
+      if (gc.set_velocity) {
+        Particles& p = sim_.particles();  // a host-side edit (offload builds send it before the next kernel)
+        const Vec3 v = *gc.set_velocity;
+        for (std::size_t i = 0; i < p.size(); ++i)
+          if (p.group[i] == gc.group) {
+            p.vx[i] = v.x;
+            p.vy[i] = v.y;
+            p.vz[i] = v.z;
+          }
+        os << ", members at velocity (" << v.x << ", " << v.y << ", " << v.z << ") m/s";
+      }
+      os << "; ";
     }
     // The changes act on this step's forces too (damping, reactions), as they would have at set-up.
     sim_.recompute_forces();
@@ -275,6 +289,18 @@ class DemRunModel final : public RunModel {
 };
 
 }  // namespace
+
+DemSimulation& dem_simulation(RunModel& model) {
+  auto* m = dynamic_cast<DemRunModel*>(&model);
+  if (!m) throw std::invalid_argument("dem_simulation: not a model of prepare_dem_run");
+  return m->simulation();
+}
+
+const WearAnalysis* dem_wear_analysis(const RunModel& model) {
+  const auto* m = dynamic_cast<const DemRunModel*>(&model);
+  if (!m) throw std::invalid_argument("dem_wear_analysis: not a model of prepare_dem_run");
+  return m->wear();
+}
 
 RunPlan prepare_dem_run(const RunOptions& opt) {
   // On restart the system and its physics come from the checkpoint (no data file is read); run.steps (a

@@ -7,8 +7,17 @@
 
 namespace debris {
 
+class DemSimulation;
+class WearAnalysis;
+
 /// Reads the input (or the checkpoint), builds and validates the system and prints what the executable
 /// prints before stepping; InputError for bad input, before anything is written.
 RunPlan prepare_dem_run(const RunOptions& options);
+
+/// The simulation inside a model that prepare_dem_run() made (std::invalid_argument for any other model):
+/// for drivers that read or edit the state between steps.
+DemSimulation& dem_simulation(RunModel& model);
+/// Its wear analysis, or nullptr when the input has no `wear:`.
+const WearAnalysis* dem_wear_analysis(const RunModel& model);
 
 }  // namespace debris

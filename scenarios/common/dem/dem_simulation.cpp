@@ -145,10 +145,12 @@ void DemSimulation::rebuild(const std::vector<int>* order) {
   box_.wrap_resident(p_);
   if (order) {
     p_.permute_resident(*order);
+    ++layout_generation_;
   } else if (settings_.sort_by_cell) {
     sorter_.build(box_.view(), p_.x.data(), p_.y.data(), p_.z.data(), static_cast<int>(p_.size()),
                   max_cutoff_ + skin_);
     p_.permute_resident(sorter_.sort_order());
+    ++layout_generation_;
   }
   list_.build(box_.view(), p_, CohesiveCutoff{coef_}, max_cutoff_, skin_,
                pass_ == PairPass::half ? NeighborKind::half : NeighborKind::full);

@@ -111,6 +111,9 @@ class DemSimulation {
   double skin() const { return skin_; }
   double max_cutoff() const { return max_cutoff_; }
   const PassTimes& times() const { return times_; }
+  /// Counts the changes of storage order (a re-sort by cell at a rebuild, reorder()): an index into the
+  /// columns means the same particle only while this stays the same (the Python module's views check it).
+  long layout_generation() const { return layout_generation_; }
 
   /// Forces a neighbour rebuild (with re-sort and history carry-over) now, as if particles had drifted.
   void rebuild_neighbors();
@@ -221,6 +224,7 @@ class DemSimulation {
   double dt_ = 0, damping_ = 0, skin_ = 0, max_cutoff_ = 0;
   long step_ = 0;
   double time_ = 0;
+  long layout_generation_ = 0;
   PassTimes times_;
   mutable bool particles_on_host_ = true, pairs_on_host_ = true, host_edited_ = true;
 };

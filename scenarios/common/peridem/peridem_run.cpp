@@ -126,6 +126,7 @@ void peridem_print_thermo(const std::vector<std::string>& cols, const std::vecto
 // checks and stage changes (walls placed or set moving, gravity).
 class PeridemRunModel final : public RunModel {
  public:
+  PeridemSimulation& simulation() { return sim_; }
   PeridemRunModel(PeridemSimulation sim, PeridemRunConfig cfg) : sim_(std::move(sim)), cfg_(std::move(cfg)) {
     per_grain_ = grain_columns(sim_, cfg_.output);
     const std::size_t n = thermo_columns().size();
@@ -257,6 +258,12 @@ class PeridemRunModel final : public RunModel {
 
 }  // namespace
 
+PeridemSimulation& peridem_simulation(RunModel& model) {
+  auto* m = dynamic_cast<PeridemRunModel*>(&model);
+  if (!m) throw std::invalid_argument("peridem_simulation: not a model of prepare_peridem_run");
+  return m->simulation();
+}
+
 RunPlan prepare_peridem_run(const RunOptions& opt) {
   // On restart the state and its physics come from the checkpoint; run.steps (a total), stages and output
   // from the input.
@@ -270,7 +277,7 @@ RunPlan prepare_peridem_run(const RunOptions& opt) {
   PeridemRunConfig cfg = read_peridem_input_text(in.text, in.name, in.base_directory, io);
   // The parts a checkpoint fixes (the system and its physics): named where -i gives them otherwise.
   std::vector<std::string> ignored;
-  if (restored && !opt.input.empty())
+  if (restored && (!opt.input.empty() || !opt.input_text.empty()))
     ignored = differing_keys(InputNode::load_string(in.text, in.name), InputNode::load_string(echo, "the checkpoint's input"),
                              {"dimension", "materials", "shapes", "grains", "particle_file", "walls", "contact", "gravity",
                               "run.time_step", "run.skin", "run.allow_unstable_time_step", "run.global_damping"});

@@ -7,8 +7,14 @@
 
 namespace debris {
 
+class PeridemSimulation;
+
 /// Reads the input (or the checkpoint), builds and validates the system and prints what the executable
 /// prints before stepping; InputError for bad input, before anything is written.
 RunPlan prepare_peridem_run(const RunOptions& options);
+
+/// The simulation inside a model that prepare_peridem_run() made (std::invalid_argument for any other
+/// model): for drivers that read or edit the state between steps.
+PeridemSimulation& peridem_simulation(RunModel& model);
 
 }  // namespace debris

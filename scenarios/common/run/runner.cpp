@@ -57,12 +57,14 @@ struct Run::State {
   long last_checkpoint = -1;
   std::optional<Progress> progress;
   bool started_outputs = false;
+  std::string stop_message, report;
 
   RunModel& model() { return *plan.model; }
 
   int stop(const std::string& problem) {
     std::cerr << program << ": stopped: " << problem << "\n"
               << program << ": the last good checkpoint is " << last_good << std::endl;
+    stop_message = problem + "; the last good checkpoint is " + last_good;
     return kExitUnfinished;
   }
   int stage_starts(long step) const { return step < last_step ? stages.stage_starting_at(step) : -1; }
@@ -127,6 +129,53 @@ Run::~Run() = default;
 RunModel& Run::model() { return s_->model(); }
 long Run::last_step() const { return s_->last_step; }
 bool Run::done() const { return s_->model().step_count() >= s_->last_step; }
+const RunPlan& Run::plan() const { return s_->plan; }
+const StagePlan& Run::stages() const { return s_->stages; }
+const std::string& Run::stop_message() const { return s_->stop_message; }
+const std::string& Run::closing_report() const { return s_->report; }
+std::string Run::directory() const { return s_->dir.string(); }
+std::string Run::checkpoint_path() const { return s_->checkpoint; }
+
+RunProgress Run::progress() const {
+  const State& s = *s_;
+  RunProgress p;
+  p.first_step = s.first_step;
+  p.step = s.plan.model->step_count();
+  p.last_step = s.last_step;
+  if (!s.started_outputs) return p;
+  p.seconds = seconds_since(s.t0);
+  const double done = static_cast<double>(p.step - p.first_step);
+  p.steps_per_second = p.seconds > 0 && done > 0 ? done / p.seconds : 0.0;
+  p.seconds_left = p.steps_per_second > 0 ? static_cast<double>(p.last_step - p.step) / p.steps_per_second : 0.0;
+  return p;
+}
+
+PassTable Run::pass_table() const {
+  const State& s = *s_;
+  if (!s.started_outputs) throw std::logic_error("Run::pass_table before Run::start");
+  const RunModel& model = *s.plan.model;
+  PassTable t;
+  t.stepping = seconds_since(s.t0);
+  t.total = s.setup_seconds + t.stepping;
+  t.steps = model.step_count() - s.first_step;
+  // Set-up, each pass while stepping, output, and the rest (checks, stage changes, the loop itself), so the
+  // shares add up to the total.
+  t.rows.push_back({"set-up", s.setup_seconds, "(input, system, first forces, output files)"});
+  std::vector<PassTime> passes = model.pass_times();
+  for (std::size_t k = 0; k < passes.size() && k < s.setup_times.size(); ++k)
+    passes[k].seconds -= s.setup_times[k].seconds;
+  double accounted = s.output_seconds;
+  for (const PassTime& r : passes) {
+    accounted += r.seconds;
+    t.rows.push_back(r);
+  }
+  t.rows.push_back({"output", s.output_seconds, "(thermo, frames, checkpoints)"});
+  t.rows.push_back({"rest", std::max(0.0, t.stepping - accounted), "(health checks, stage changes, loop)"});
+  t.items_steps_per_second =
+      t.stepping > 0 ? static_cast<double>(model.items()) * static_cast<double>(t.steps) / t.stepping : 0.0;
+  t.bytes_per_step = t.steps > 0 ? s.step_bytes / static_cast<double>(t.steps) : 0.0;
+  return t;
+}
 
 int Run::start() {
   State& s = *s_;
@@ -252,39 +301,26 @@ int Run::finish() {
   if (!done()) throw std::logic_error("Run::finish before the run's last step");
   RunModel& model = s.model();
   return s.guarded([&] {
-    const std::string report = model.closing_report();
-    if (!report.empty()) std::cout << report << "\n";
+    s.report = model.closing_report();
+    if (!s.report.empty()) std::cout << s.report << "\n";
     exec::print_tuning_summary(std::cout);
 
-    // The pass table: set-up, each pass while stepping, output, and the rest (checks, stage changes, the
-    // loop itself), so the shares add up to the total.
-    const double stepping = seconds_since(s.t0);
-    const double wall = s.setup_seconds + stepping;
-    std::vector<PassTime> rows = model.pass_times();
-    for (std::size_t k = 0; k < rows.size() && k < s.setup_times.size(); ++k)
-      rows[k].seconds -= s.setup_times[k].seconds;
-    double accounted = s.output_seconds;
-    for (const PassTime& r : rows) accounted += r.seconds;
+    const PassTable t = pass_table();
     auto line = [&](const std::string& name, double sec, const std::string& extra) {
       std::cout << std::left << std::setw(13) << name << std::right << std::setw(10) << std::fixed
                 << std::setprecision(3) << sec << std::setw(8) << std::setprecision(1)
-                << (wall > 0 ? 100 * sec / wall : 0) << "%" << (extra.empty() ? "" : "  " + extra) << "\n"
+                << (t.total > 0 ? 100 * sec / t.total : 0) << "%" << (extra.empty() ? "" : "  " + extra) << "\n"
                 << std::defaultfloat;
     };
     std::cout << "\npass            seconds   share\n";
-    line("set-up", s.setup_seconds, "(input, system, first forces, output files)");
-    for (const PassTime& r : rows) line(r.name, r.seconds, r.note);
-    line("output", s.output_seconds, "(thermo, frames, checkpoints)");
-    line("rest", std::max(0.0, stepping - accounted), "(health checks, stage changes, loop)");
+    for (const PassTime& r : t.rows) line(r.name, r.seconds, r.note);
     std::ostringstream rate;
-    const double steps = static_cast<double>(s.last_step - s.first_step);
-    rate << std::setprecision(3)
-         << (stepping > 0 ? static_cast<double>(model.items()) * steps / stepping / 1e6 : 0.0) << " M "
-         << model.item_name() << "-steps/s while stepping";
-    line("total", wall, rate.str());
+    rate << std::setprecision(3) << t.items_steps_per_second / 1e6 << " M " << model.item_name()
+         << "-steps/s while stepping";
+    line("total", t.total, rate.str());
     if constexpr (exec::offload_build())
-      std::cout << "device transfers while stepping: " << std::setprecision(6)
-                << (steps > 0 ? s.step_bytes / steps : 0.0) << " B per step (outputs and checks left out)\n";
+      std::cout << "device transfers while stepping: " << std::setprecision(6) << t.bytes_per_step
+                << " B per step (outputs and checks left out)\n";
     std::cout << "output written to " << s.dir.string() << "/ (thermo.csv, " << model.frame_files(s.suffix)
               << ", checkpoint.h5)\n";
     return 0;
@@ -320,7 +356,11 @@ void print_input_notes(std::ostream& out, const std::vector<std::string>& ignore
 
 InputSource input_source(const RunOptions& options, const std::string& checkpoint_echo) {
   InputSource s;
-  if (options.input.empty()) {
+  if (!options.input_text.empty()) {
+    s.text = options.input_text;
+    s.name = options.input_name.empty() ? "input text" : options.input_name;
+    s.base_directory = options.base_directory;
+  } else if (options.input.empty()) {
     s.text = checkpoint_echo;
     s.name = options.restart + " (input echo)";
   } else {
@@ -329,6 +369,12 @@ InputSource input_source(const RunOptions& options, const std::string& checkpoin
     s.base_directory = std::filesystem::path(options.input).parent_path().string();
   }
   return s;
+}
+
+void continue_beside_checkpoint(RunPlan& plan, const RunOptions& options) {
+  if (options.restart.empty() || !options.output.empty()) return;
+  const std::filesystem::path parent = std::filesystem::path(options.restart).parent_path();
+  plan.directory = parent.empty() ? "." : parent.string();
 }
 
 int run_main(int argc, char** argv, const std::string& program, const std::string& description,
@@ -355,12 +401,7 @@ int run_main(int argc, char** argv, const std::string& program, const std::strin
   return exit_status_of(program, [&] {
     const auto started = Clock::now();
     RunPlan plan = prepare(opt);
-    // A restart without -o continues where its checkpoint is (the thermo rows to continue are there),
-    // from whatever directory it is started.
-    if (!opt.restart.empty() && opt.output.empty()) {
-      const std::filesystem::path parent = std::filesystem::path(opt.restart).parent_path();
-      plan.directory = parent.empty() ? "." : parent.string();
-    }
+    continue_beside_checkpoint(plan, opt);
     return run_plan(std::move(plan), program, opt, started);
   });
 }

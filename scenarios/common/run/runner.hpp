@@ -24,10 +24,13 @@
 namespace debris {
 
 
-/// The command line every executable takes.
+/// The command line every executable takes, and what other drivers give instead of a file.
 struct RunOptions {
   std::string input, output, restart;
   int threads = 0;
+  // The input as text rather than a file (the Python module's dict, emitted as YAML): used when not empty,
+  // named `input_name` in messages; relative paths in it are taken from `base_directory`.
+  std::string input_text, input_name, base_directory;
 };
 
 /// One row of the pass table: wall seconds of one pass since the set-up ended.
@@ -35,6 +38,24 @@ struct PassTime {
   std::string name;
   double seconds = 0;
   std::string note;  // e.g. "(12 rebuilds)"
+};
+
+/// The pass table a run prints at its end, as values: set-up, each pass, output and the rest, whose seconds
+/// add up to `total`; the rate is items (particles, nodes) times steps per second while stepping.
+struct PassTable {
+  std::vector<PassTime> rows;
+  double total = 0, stepping = 0;
+  long steps = 0;
+  double items_steps_per_second = 0;
+  double bytes_per_step = 0;  // offload builds: host <-> device bytes per step, outputs and checks left out
+};
+
+/// Where a run is, as the progress line says it.
+struct RunProgress {
+  long first_step = 0, step = 0, last_step = 0;
+  double seconds = 0;           // wall seconds since stepping began
+  double steps_per_second = 0;  // since stepping began (0 before the first step)
+  double seconds_left = 0;      // at that rate
 };
 
 /// How the runner sees a simulation. Host-side, called a few times per step at most: virtual calls are fine.
@@ -138,6 +159,10 @@ InputSource input_source(const RunOptions& options, const std::string& checkpoin
 void print_input_notes(std::ostream& out, const std::vector<std::string>& ignored_at_restart,
                        const std::vector<std::string>& plain_quantities);
 
+/// A restart without -o continues where its checkpoint is (the thermo rows to continue are there), from
+/// whatever directory it is started: sets plan.directory so.
+void continue_beside_checkpoint(RunPlan& plan, const RunOptions& options);
+
 /// One run of a plan, step by step: what run_main does between the set-up and the exit, for drivers that
 /// step a run themselves (the Python module of issue 28). start() checks the set-up (InputError when it
 /// cannot run, before anything is written), opens the outputs and writes the first step's; advance(n) makes
@@ -158,6 +183,19 @@ class Run {
   bool done() const;
   long last_step() const;
   RunModel& model();
+  const RunPlan& plan() const;
+  /// The stages on the step axis (empty without stages), once started.
+  const StagePlan& stages() const;
+  /// What the last kExitUnfinished said ("at step 812: ...; the last good checkpoint is ..."); else empty.
+  const std::string& stop_message() const;
+  /// What finish() printed before the pass table (the model's closing report); empty before.
+  const std::string& closing_report() const;
+  RunProgress progress() const;
+  /// The table finish() prints; available at any time after start().
+  PassTable pass_table() const;
+  /// The output directory and the checkpoint file the run writes.
+  std::string directory() const;
+  std::string checkpoint_path() const;
 
  private:
   struct State;
