@@ -1,0 +1,30 @@
+#pragma once
+// The state of a run as numpy arrays over its live columns, without copies: the DEM particles' columns
+// (core/particles.hpp) and the PeriDEM nodes' (core/pd_nodes.hpp), one 1-D array per column, as they are
+// stored (structure of arrays). Each array is made at the moment it is asked for, from the host copy made
+// current first (offload builds bring it back from the device), and holds a reference to its simulation so
+// the memory outlives it. Read-only unless asked for inside an edit; an edit marks the host copy changed, so
+// offload builds send it to the device before the next kernel, and re-evaluates this step's forces (the
+// same calls a stage's changes make).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <string>
+#include <vector>
+
+#include "scenarios/python/python_run.hpp"
+
+namespace debris {
+
+/// The column names of a model's state, in storage order.
+std::vector<std::string> state_columns(PyModel model);
+
+/// Column `name` as a 1-D numpy array over the live memory; `owner` is kept alive by it. KeyError for an
+/// unknown name. PeriDEM's `damage` is brought up to date first (eq 14 for the current positions).
+pybind11::array state_column(PyRun& run, const std::string& name, bool writable, pybind11::handle owner);
+
+/// The end of an edit: the host copy marked changed (offload builds), the neighbour or contact list rebuilt
+/// when positions may have moved (`positions_changed`), and this step's forces evaluated again.
+void end_state_edit(PyRun& run, bool positions_changed);
+
+}  // namespace debris
