@@ -28,8 +28,8 @@ packages=(
   python3-matplotlib     # the sheared-junction pictures (scenarios/wear/plot.py)
   python3-numpy python3-h5py  # scenarios/peridem/compression.py, damage_picture.py, settled_pack.py (and their test)
   pybind11-dev python3-dev    # the Python module (`import debris`, scenarios/python)
+  python3-pytest              # its tests (tests/python; configuring the tests needs it, as it needs Gmsh)
 )
-[ "$with_tests" -eq 0 ] || packages+=(python3-pytest)  # the module's tests (tests/python)
 [ "$with_tests" -eq 0 ] || packages+=(python3-paraview)
 # clang-offload-packager comes from clang-tools-19; libomptarget and its x86_64 plugin from libomp-19-dev.
 [ "$with_hostdevice" -eq 0 ] || packages+=(clang-19 clang-tools-19 libomp-19-dev)
