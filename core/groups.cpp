@@ -6,6 +6,16 @@
 
 namespace debris {
 
+const char* motion_name(GroupMotion m) {
+  switch (m) {
+    case GroupMotion::free: return "free";
+    case GroupMotion::frozen: return "frozen";
+    case GroupMotion::velocity: return "velocity";
+    case GroupMotion::force: return "force";
+  }
+  return "?";
+}
+
 int Groups::add(Group g) {
   if (g.name.empty()) throw input_error("groups.name", "''", "a group needs a non-empty name");
   if (find(g.name) >= 0) throw input_error("groups.name", g.name, "group names must be unique");

@@ -37,6 +37,8 @@ namespace debris {
 class Particles;
 
 enum class GroupMotion : int { free = 0, frozen = 1, velocity = 2, force = 3 };
+/// The input's word for a motion: "free", "frozen", "velocity", "force".
+const char* motion_name(GroupMotion m);
 
 struct Group {
   std::string name;

@@ -30,16 +30,6 @@ struct StaleViewTag {};
 
 py::tuple vec(const Vec3& v) { return py::make_tuple(v.x, v.y, v.z); }
 
-const char* motion_name(GroupMotion m) {
-  switch (m) {
-    case GroupMotion::free: return "free";
-    case GroupMotion::frozen: return "frozen";
-    case GroupMotion::velocity: return "velocity";
-    case GroupMotion::force: return "force";
-  }
-  return "?";
-}
-
 PyModel model_of(const std::string& kind) {
   if (kind == "dem") return PyModel::dem;
   if (kind == "peridem") return PyModel::peridem;

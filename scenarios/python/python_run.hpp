@@ -44,7 +44,8 @@ class PyRun {
   /// Closing report and pass table (printed unless quiet); once, at the plan's end.
   void finish();
   bool finished() const { return finished_; }
-  const std::string& report() const { return report_; }
+  /// What finish() reported before the pass table (the wear verdict's paragraph); empty before.
+  const std::string& report() const { return run_->closing_report(); }
 
   /// Writes a checkpoint (the executable's format) to `path`, or to the run's own when empty; returns it.
   std::string checkpoint(const std::string& path);
@@ -56,7 +57,6 @@ class PyRun {
  private:
   PyModel kind_;
   bool quiet_ = false, finished_ = false, stopped_ = false;
-  std::string report_;
   std::unique_ptr<Run> run_;
   void check_usable() const;
 };

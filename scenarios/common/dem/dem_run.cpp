@@ -257,15 +257,6 @@ class DemRunModel final : public RunModel {
     if (wear_csv_ && write) wear_csv_->write_row(WearAnalysis::row(w));
     wear_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
-  static const char* motion_name(GroupMotion m) {
-    switch (m) {
-      case GroupMotion::free: return "free";
-      case GroupMotion::frozen: return "frozen";
-      case GroupMotion::velocity: return "velocity";
-      case GroupMotion::force: return "force";
-    }
-    return "?";
-  }
   PictureUnits picture_units() const {
     const Vec3 extent = sim_.box().hi() - sim_.box().lo();
     return PictureUnits::for_extent(std::max({extent.x, extent.y, extent.z}));
