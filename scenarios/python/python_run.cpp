@@ -78,7 +78,12 @@ PyRun::PyRun(PyModel model, const PyRunArgs& args) : kind_(model), quiet_(args.q
 
 PyRun::~PyRun() = default;
 
+void PyRun::check_idle() const {
+  if (stepping_) throw std::runtime_error("the simulation is stepping in another thread: read or edit it after run() returns");
+}
+
 void PyRun::check_usable() const {
+  check_idle();
   if (stopped_) raise_python(py_errors().run_stopped, "the run stopped earlier: " + run_->stop_message());
 }
 
@@ -93,11 +98,17 @@ void PyRun::advance(long steps) {
     const auto t0 = std::chrono::steady_clock::now();
     int status = 0;
     try {
+      stepping_ = true;
       const py::gil_scoped_release release;
       const QuietStreams quiet(quiet_);
       status = run_->advance(n);
+      stepping_ = false;
     } catch (const InputError&) {  // a stage whose changes cannot be made: the executable ends there too
+      stepping_ = false;
       stopped_ = true;
+      throw;
+    } catch (...) {
+      stepping_ = false;
       throw;
     }
     if (status != 0) {

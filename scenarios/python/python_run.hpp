@@ -6,6 +6,7 @@
 // the live columns (python_state.cpp).
 #include <pybind11/pybind11.h>
 
+#include <atomic>
 #include <memory>
 #include <optional>
 #include <string>
@@ -31,9 +32,17 @@ class PyRun {
   ~PyRun();
 
   PyModel kind() const { return kind_; }
-  Run& run() { return *run_; }
-  const Run& run() const { return *run_; }
-  RunModel& model() { return run_->model(); }
+  /// The run and its model, for every value and view: refused (RuntimeError) while another Python thread
+  /// is inside advance(), whose steps would change them under the reader.
+  Run& run() {
+    check_idle();
+    return *run_;
+  }
+  const Run& run() const {
+    check_idle();
+    return *run_;
+  }
+  RunModel& model() { return run().model(); }
   bool quiet() const { return quiet_; }
 
   /// At most `steps` steps (to the plan's end); the runner's outputs and checks at each. RunStopped if the
@@ -58,7 +67,9 @@ class PyRun {
   PyModel kind_;
   bool quiet_ = false, finished_ = false, stopped_ = false;
   std::unique_ptr<Run> run_;
+  std::atomic<bool> stepping_{false};
   void check_usable() const;
+  void check_idle() const;
 };
 
 /// Swaps std::cout and std::cerr for a sink while it lives, when `quiet` (the runner prints as it goes).
