@@ -6,11 +6,21 @@
 
 namespace debris {
 
+/// Where a run is, as the progress line says it.
+struct ProgressValues {
+  long first_step = 0, step = 0, last_step = 0;
+  double seconds = 0;           // wall seconds since the first step
+  double steps_per_second = 0;  // since then (0 before a step is made)
+  double seconds_left = 0;      // at that rate
+};
+
 class Progress {
  public:
   Progress(long first_step, long last_step, std::ostream& out, double interval_seconds = 10.0);
   /// Prints a line if `interval` has passed since the last one.
   void update(long step, std::size_t particles);
+  /// The line's numbers at `step`, now.
+  ProgressValues values(long step) const;
 
  private:
   using Clock = std::chrono::steady_clock;

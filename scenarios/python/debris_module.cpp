@@ -41,7 +41,7 @@ void require(const PyRun& r, PyModel m) {
 }
 
 py::dict progress_dict(const Run& run) {
-  const RunProgress p = run.progress();
+  const ProgressValues p = run.progress();
   return py::dict("first_step"_a = p.first_step, "step"_a = p.step, "last_step"_a = p.last_step,
                   "fraction"_a = p.last_step > p.first_step
                                      ? static_cast<double>(p.step - p.first_step) / static_cast<double>(p.last_step - p.first_step)
@@ -214,6 +214,11 @@ PYBIND11_MODULE(_debris, m) {
            [](PyRun& r) {
              require(r, PyModel::peridem);
              return peridem_simulation(r.model()).touching_pairs();
+           })
+      .def("pd_broken_bonds",
+           [](PyRun& r) {
+             require(r, PyModel::peridem);
+             return peridem_simulation(r.model()).broken_bonds();
            })
       .def("pd_diagnostics",
            [](PyRun& r) {

@@ -136,17 +136,14 @@ const std::string& Run::closing_report() const { return s_->report; }
 std::string Run::directory() const { return s_->dir.string(); }
 std::string Run::checkpoint_path() const { return s_->checkpoint; }
 
-RunProgress Run::progress() const {
+ProgressValues Run::progress() const {
   const State& s = *s_;
-  RunProgress p;
+  const long step = s.plan.model->step_count();
+  if (s.progress) return s.progress->values(step);
+  ProgressValues p;
   p.first_step = s.first_step;
-  p.step = s.plan.model->step_count();
+  p.step = step;
   p.last_step = s.last_step;
-  if (!s.started_outputs) return p;
-  p.seconds = seconds_since(s.t0);
-  const double done = static_cast<double>(p.step - p.first_step);
-  p.steps_per_second = p.seconds > 0 && done > 0 ? done / p.seconds : 0.0;
-  p.seconds_left = p.steps_per_second > 0 ? static_cast<double>(p.last_step - p.step) / p.steps_per_second : 0.0;
   return p;
 }
 

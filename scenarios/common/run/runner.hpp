@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/error.hpp"  // kExitInput, kExitUnfinished
+#include "core/io/progress.hpp"
 #include "core/pass_timer.hpp"  // WallClock
 #include "core/thread_tuner.hpp"
 #include "scenarios/common/run/stages.hpp"
@@ -48,14 +49,6 @@ struct PassTable {
   long steps = 0;
   double items_steps_per_second = 0;
   double bytes_per_step = 0;  // offload builds: host <-> device bytes per step, outputs and checks left out
-};
-
-/// Where a run is, as the progress line says it.
-struct RunProgress {
-  long first_step = 0, step = 0, last_step = 0;
-  double seconds = 0;           // wall seconds since stepping began
-  double steps_per_second = 0;  // since stepping began (0 before the first step)
-  double seconds_left = 0;      // at that rate
 };
 
 /// How the runner sees a simulation. Host-side, called a few times per step at most: virtual calls are fine.
@@ -190,7 +183,8 @@ class Run {
   const std::string& stop_message() const;
   /// What finish() printed before the pass table (the model's closing report); empty before.
   const std::string& closing_report() const;
-  RunProgress progress() const;
+  /// Where the run is (core/io/progress.hpp): zero rates before start().
+  ProgressValues progress() const;
   /// The table finish() prints; available at any time after start().
   PassTable pass_table() const;
   /// The output directory and the checkpoint file the run writes.
