@@ -27,6 +27,15 @@ class NullBuffer : public std::streambuf {
 };
 NullBuffer g_null;
 
+/// Raises the flag while it lives (however the scope is left).
+struct SteppingFlag {
+  std::atomic<bool>& flag;
+  explicit SteppingFlag(std::atomic<bool>& f) : flag(f) { flag = true; }
+  ~SteppingFlag() { flag = false; }
+  SteppingFlag(const SteppingFlag&) = delete;
+  SteppingFlag& operator=(const SteppingFlag&) = delete;
+};
+
 const char* program_name(PyModel m) { return m == PyModel::dem ? "debris.Dem" : "debris.Peridem"; }
 
 }  // namespace
@@ -98,17 +107,12 @@ void PyRun::advance(long steps) {
     const auto t0 = std::chrono::steady_clock::now();
     int status = 0;
     try {
-      stepping_ = true;
+      const SteppingFlag flag(stepping_);
       const py::gil_scoped_release release;
       const QuietStreams quiet(quiet_);
       status = run_->advance(n);
-      stepping_ = false;
     } catch (const InputError&) {  // a stage whose changes cannot be made: the executable ends there too
-      stepping_ = false;
       stopped_ = true;
-      throw;
-    } catch (...) {
-      stepping_ = false;
       throw;
     }
     if (status != 0) {

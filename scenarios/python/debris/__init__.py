@@ -223,16 +223,16 @@ class _Simulation:
         """Makes `steps` steps (None: to the plan's end), never past the plan's end, with the executable's
         outputs and checks at each. At the plan's end the run is finished (closing report and pass table)
         unless finish=False. Returns self."""
-        self._check_no_edit()
-        self._run.advance(self._run.last_step - self._run.step if steps is None else int(steps))
-        if finish and self._run.done and not self._run.finished:
-            self._run.finish()
-        return self
+        return self._advance(lambda: self._run.advance(self._run.last_step - self._run.step if steps is None
+                                                       else int(steps)), finish)
 
     def run_stage(self, *, finish=True):
         """Runs to the start of the next stage (its changes made) or to the end. Returns self."""
+        return self._advance(self._run.advance_stage, finish)
+
+    def _advance(self, advance, finish):
         self._check_no_edit()
-        self._run.advance_stage()
+        advance()
         if finish and self._run.done and not self._run.finished:
             self._run.finish()
         return self
@@ -346,7 +346,8 @@ class Peridem(_Simulation):
 
     @property
     def broken_bonds(self):
-        return self.diagnostics()["broken_bonds"]
+        """Bonds broken since the start (a counter: no sweep over the bonds)."""
+        return self._run.pd_broken_bonds()
 
     def displacements(self):
         """Each node's displacement from its reference position, a (3, n) array (a new array)."""

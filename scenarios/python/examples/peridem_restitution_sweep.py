@@ -48,8 +48,8 @@ def drop_input(eps, out):
 def restitution(eps, out):
     """C_R of one drop, and the steps it took."""
     sim = debris.Peridem(drop_input(eps, out), quiet=True)
-    centre = lambda: (sim.grains["top"]["centre"][1], sim.grains["bottom"]["centre"][1])
-    top0, bottom0 = centre()
+    grains = sim.grains
+    centre_gap0 = grains["top"]["centre"][1] - grains["bottom"]["centre"][1]
     touched, free_rising = False, 0
     while not sim.done:
         sim.run(1, finish=False)
@@ -58,12 +58,11 @@ def restitution(eps, out):
             continue
         if not touched:
             continue
-        top = sim.grains["top"]
-        v = top["velocity"][1] - 0.5 * DT * G  # stored velocities are half a step behind the positions
+        grains = sim.grains
+        v = grains["top"]["velocity"][1] - 0.5 * DT * G  # stored velocities are half a step behind the positions
         free_rising = free_rising + 1 if v > 0 else 0
         if free_rising >= 100:
-            top_y, bottom_y = centre()
-            h = GAP0 + (top_y - bottom_y) - (top0 - bottom0)
+            h = GAP0 + (grains["top"]["centre"][1] - grains["bottom"]["centre"][1]) - centre_gap0
             return math.sqrt((h + v * v / (2 * G)) / H0), sim.step
     raise RuntimeError(f"epsilon {eps}: the top disc did not leave the contact in {sim.step} steps")
 
