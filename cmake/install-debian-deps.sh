@@ -2,6 +2,8 @@
 # Installs the Debian 12 packages debris builds with (nothing is downloaded at configure time).
 #   --tests  also what the whole test suite needs: ParaView's pvpython (python3-paraview, about 1.2 GB
 #            installed), which opens the HDF5/XDMF trajectory in the ParaViewOpensTrajectory test.
+#   --mpi    also Open MPI and the parallel HDF5 (the DEBRIS_MPI=ON configuration, build-mpi). The serial
+#            libhdf5-dev stays, and the serial build keeps finding it (through h5cc).
 #   --hostdevice  also clang 19 with OpenMP offload to the host CPU as a separate device (the
 #            DEBRIS_OFFLOAD=hostdevice configuration; about 30 s). libomp-19-dev replaces libomp-14-dev and
 #            libomp-dev (clang 14's OpenMP runtime); the host build uses GCC's libgomp and is not affected.
@@ -9,11 +11,13 @@
 set -euo pipefail
 with_tests=0
 with_hostdevice=0
+with_mpi=0
 for arg in "$@"; do
   case "$arg" in
     --tests) with_tests=1 ;;
     --hostdevice) with_hostdevice=1 ;;
-    *) echo "install-debian-deps.sh: unknown option '$arg' (valid: --tests, --hostdevice)" >&2; exit 2 ;;
+    --mpi) with_mpi=1 ;;
+    *) echo "install-debian-deps.sh: unknown option '$arg' (valid: --tests, --hostdevice, --mpi)" >&2; exit 2 ;;
   esac
 done
 packages=(
@@ -31,6 +35,7 @@ packages=(
   python3-pytest              # its tests (tests/python; configuring the tests needs it, as it needs Gmsh)
 )
 [ "$with_tests" -eq 0 ] || packages+=(python3-paraview)
+[ "$with_mpi" -eq 0 ] || packages+=(libopenmpi-dev openmpi-bin libhdf5-openmpi-dev)
 # clang-offload-packager comes from clang-tools-19; libomptarget and its x86_64 plugin from libomp-19-dev.
 [ "$with_hostdevice" -eq 0 ] || packages+=(clang-19 clang-tools-19 libomp-19-dev)
 missing=()

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 
+#include "core/comm/communicator.hpp"
 #include "core/io/hdf5_file.hpp"
 #include "scenarios/common/dem/dem_simulation.hpp"
 #include "tests/cli_helpers.hpp"
@@ -78,6 +79,28 @@ TEST_F(DemCli, GoodInputWritesThermoAndDump) {
   const std::string dump = slurp(out / "dump.lammpstrj");
   EXPECT_NE(dump.find("ITEM: ATOMS id type x y z radius vx vy vz fx fy fz"), std::string::npos);
   EXPECT_NE(dump.find("ITEM: BOX BOUNDS pp pp pp"), std::string::npos);
+}
+
+// Started by mpirun as several processes (the launcher's environment says so): a serial build would run the
+// whole input once per process, every copy writing the same files. Exit 2 on each, the first one saying why,
+// nothing written. (In an MPI build the runs refuse more than one rank until they are distributed.)
+TEST_F(DemCli, ManyProcessesFromASerialBuildAreRefused) {
+  if (debris::comm::mpi_build()) GTEST_SKIP() << "an MPI build counts its ranks through MPI itself";
+  const std::string input = write(dir, "good_again.yaml", small_input(out.string())).string();
+  const Result first = debris::test::run_command("OMPI_COMM_WORLD_SIZE=4 OMPI_COMM_WORLD_RANK=0 " +
+                                                     std::string(DEBRIS_DEM_EXECUTABLE), "-i " + input);
+  EXPECT_EQ(first.exit_code, 2) << first.output;
+  EXPECT_NE(first.output.find("'mpirun -np' = 4"), std::string::npos) << first.output;
+  EXPECT_NE(first.output.find("built without MPI (DEBRIS_MPI=OFF)"), std::string::npos) << first.output;
+  const Result other = debris::test::run_command("PMI_SIZE=2 PMI_RANK=1 " + std::string(DEBRIS_DEM_EXECUTABLE),
+                                                 "-i " + input);
+  EXPECT_EQ(other.exit_code, 2) << other.output;
+  EXPECT_EQ(other.output, "") << "only the first process explains";
+  EXPECT_EQ(slurp(out / "thermo.csv"), thermo_before) << "a refused run overwrote earlier results";
+  // One process under a launcher (mpirun -np 1) runs as usual.
+  const Result one = debris::test::run_command("OMPI_COMM_WORLD_SIZE=1 " + std::string(DEBRIS_DEM_EXECUTABLE),
+                                               "-i " + input);
+  EXPECT_EQ(one.exit_code, 0) << one.output;
 }
 
 TEST_F(DemCli, PoissonRatioAboveQuarter) {

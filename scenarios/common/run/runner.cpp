@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/comm/communicator.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/pass_timer.hpp"
@@ -374,8 +375,31 @@ void continue_beside_checkpoint(RunPlan& plan, const RunOptions& options) {
   plan.directory = parent.empty() ? "." : parent.string();
 }
 
+namespace {
+// A run of these executables is one process. Started by mpirun in a serial build, each of the N copies
+// would run the whole input and write the same files; an MPI build does not distribute these runs yet
+// (core/comm holds the decomposition, ghosts, migration and exact sums they will use). Either way: exit 2
+// on every process before anything is written, the first one saying why. -1: one process, go on.
+int refuse_many_processes(const std::string& program) {
+  const int n = comm::mpi_build() ? comm::size() : comm::launched_processes();
+  if (n <= 1) return -1;
+  if ((comm::mpi_build() ? comm::rank() : comm::launched_rank()) == 0) {
+    std::cerr << program << ": input error: 'mpirun -np' = " << n << ": ";
+    if (comm::mpi_build())
+      std::cerr << "this MPI build does not distribute " << program << "'s runs yet; run it as one process\n";
+    else
+      std::cerr << "this debris was built without MPI (DEBRIS_MPI=OFF), so each of the " << n
+                << " processes would run the whole input and write the same files; run it as one process "
+                   "(without mpirun)\n";
+  }
+  return kExitInput;
+}
+}  // namespace
+
 int run_main(int argc, char** argv, const std::string& program, const std::string& description,
              const std::string& example, const std::function<RunPlan(const RunOptions&)>& prepare) {
+  const comm::Session mpi(&argc, &argv);
+  if (const int status = refuse_many_processes(program); status >= 0) return status;
   CLI::App app{description};
   app.footer("Example, from the repository root:\n  " + example);
   RunOptions opt;

@@ -1,0 +1,161 @@
+#include "core/comm/communicator.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <initializer_list>
+#include <cstring>
+#include <stdexcept>
+
+#if defined(DEBRIS_MPI)
+#include <mpi.h>
+#endif
+
+namespace debris::comm {
+
+namespace {
+// The first of the launcher variables that is set, as a positive count (or rank); `fallback` otherwise.
+int launcher_value(std::initializer_list<const char*> names, int fallback) {
+  for (const char* name : names)
+    if (const char* v = std::getenv(name); v && *v) {
+      char* end = nullptr;
+      const long n = std::strtol(v, &end, 10);
+      if (end && *end == '\0' && n >= 0 && n < (1L << 30)) return static_cast<int>(n);
+    }
+  return fallback;
+}
+}  // namespace
+
+int launched_processes() {
+  return std::max(1, launcher_value({"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "SLURM_NTASKS"}, 1));
+}
+int launched_rank() { return launcher_value({"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK", "SLURM_PROCID"}, 0); }
+
+#if defined(DEBRIS_MPI)
+
+namespace {
+// MPI's errors are fatal by default (MPI_ERRORS_ARE_FATAL), so a return code never needs checking here.
+// (Open MPI's MPI_COMM_WORLD is an address cast, not a constant expression: hence a macro.)
+#define kWorld MPI_COMM_WORLD
+
+int count_of(std::size_t n) {
+  if (n > static_cast<std::size_t>(INT32_MAX)) throw std::runtime_error("comm: a message over 2 GiB");
+  return static_cast<int>(n);
+}
+}  // namespace
+
+Session::Session(int* argc, char*** argv) {
+  int started = 0;
+  MPI_Initialized(&started);
+  if (started) return;
+  int provided = 0;
+  MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
+  owns_ = true;
+}
+
+Session::~Session() {
+  if (!owns_) return;
+  int ended = 0;
+  MPI_Finalized(&ended);
+  if (!ended) MPI_Finalize();
+}
+
+int rank() {
+  int r = 0;
+  MPI_Comm_rank(kWorld, &r);
+  return r;
+}
+
+int size() {
+  int s = 1;
+  MPI_Comm_size(kWorld, &s);
+  return s;
+}
+
+std::string describe() {
+  char version[MPI_MAX_LIBRARY_VERSION_STRING];
+  int len = 0;
+  MPI_Get_library_version(version, &len);
+  std::string v(version, static_cast<std::size_t>(len));
+  if (const auto cut = v.find_first_of(",\n"); cut != std::string::npos) v.resize(cut);
+  const int n = size();
+  return v + ", " + std::to_string(n) + (n == 1 ? " rank" : " ranks");
+}
+
+void barrier() { MPI_Barrier(kWorld); }
+
+void abort(int status) {
+  MPI_Abort(kWorld, status);
+  std::exit(status);
+}
+
+void allreduce_sum(std::int64_t* v, int n) { MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_INT64_T, MPI_SUM, kWorld); }
+void allreduce_max(double* v, int n) { MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_DOUBLE, MPI_MAX, kWorld); }
+void allreduce_min(double* v, int n) { MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_DOUBLE, MPI_MIN, kWorld); }
+void allreduce_max(std::int64_t* v, int n) { MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_INT64_T, MPI_MAX, kWorld); }
+
+void sendrecv(const std::vector<char>& out, int to, std::vector<char>& in, int from, int tag) {
+  if (to < 0) to = MPI_PROC_NULL;
+  if (from < 0) from = MPI_PROC_NULL;
+  std::int64_t out_size = static_cast<std::int64_t>(out.size()), in_size = 0;
+  MPI_Sendrecv(&out_size, 1, MPI_INT64_T, to, tag, &in_size, 1, MPI_INT64_T, from, tag, kWorld, MPI_STATUS_IGNORE);
+  in.resize(static_cast<std::size_t>(in_size));
+  MPI_Sendrecv(out.data(), count_of(out.size()), MPI_BYTE, to, tag, in.data(), count_of(in.size()), MPI_BYTE, from,
+               tag, kWorld, MPI_STATUS_IGNORE);
+}
+
+std::vector<std::vector<char>> allgather(const std::vector<char>& mine) {
+  const int n = size();
+  int my_size = count_of(mine.size());
+  std::vector<int> sizes(static_cast<std::size_t>(n)), offsets(static_cast<std::size_t>(n));
+  MPI_Allgather(&my_size, 1, MPI_INT, sizes.data(), 1, MPI_INT, kWorld);
+  std::size_t total = 0;
+  for (int r = 0; r < n; ++r) {
+    offsets[static_cast<std::size_t>(r)] = count_of(total);
+    total += static_cast<std::size_t>(sizes[static_cast<std::size_t>(r)]);
+  }
+  std::vector<char> all(total);
+  MPI_Allgatherv(mine.data(), my_size, MPI_BYTE, all.data(), sizes.data(), offsets.data(), MPI_BYTE, kWorld);
+  std::vector<std::vector<char>> parts(static_cast<std::size_t>(n));
+  for (int r = 0; r < n; ++r) {
+    const auto* first = all.data() + offsets[static_cast<std::size_t>(r)];
+    parts[static_cast<std::size_t>(r)].assign(first, first + sizes[static_cast<std::size_t>(r)]);
+  }
+  return parts;
+}
+
+void broadcast(std::string& text, int root) {
+  std::int64_t n = static_cast<std::int64_t>(text.size());
+  MPI_Bcast(&n, 1, MPI_INT64_T, root, kWorld);
+  text.resize(static_cast<std::size_t>(n));
+  MPI_Bcast(text.data(), count_of(text.size()), MPI_CHAR, root, kWorld);
+}
+
+#else  // the one-rank stub of a serial build
+
+Session::Session(int*, char***) {}
+Session::~Session() = default;
+int rank() { return 0; }
+int size() { return 1; }
+std::string describe() { return "serial build (no MPI)"; }
+void barrier() {}
+void abort(int status) { std::exit(status); }
+void allreduce_sum(std::int64_t*, int) {}
+void allreduce_max(double*, int) {}
+void allreduce_min(double*, int) {}
+void allreduce_max(std::int64_t*, int) {}
+
+void sendrecv(const std::vector<char>& out, int to, std::vector<char>& in, int from, int) {
+  if (to > 0 || from > 0) throw std::logic_error("comm: a serial build has rank 0 only");
+  if (from < 0) {
+    in.clear();
+    return;
+  }
+  in = out;
+}
+
+std::vector<std::vector<char>> allgather(const std::vector<char>& mine) { return {mine}; }
+void broadcast(std::string&, int) {}
+
+#endif
+
+}  // namespace debris::comm

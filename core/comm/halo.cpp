@@ -1,0 +1,93 @@
+#include "core/comm/halo.hpp"
+
+#include <stdexcept>
+
+#include "core/comm/communicator.hpp"
+#include "core/comm/pack.hpp"
+
+namespace debris::comm {
+
+namespace {
+const double* coordinate(const Particles& p, int axis) {
+  return axis == 0 ? p.x.data() : (axis == 1 ? p.y.data() : p.z.data());
+}
+// Tags of the swaps: axis and direction, so two messages between the same two ranks never meet.
+int tag_of(int axis, int dir) { return 100 + 2 * axis + (dir > 0 ? 1 : 0); }
+}  // namespace
+
+void Halo::borders(const Decomposition& d, const Box& box, double width, Particles& p, std::size_t n_owned) {
+  p.resize(n_owned);
+  owned_ = n_owned;
+  swaps_.clear();
+  shift_.clear();
+  const auto shift_of = [&](std::size_t i) {
+    return i < owned_ ? std::array<std::int8_t, 3>{0, 0, 0} : shift_[i - owned_];
+  };
+  for (int a = 0; a < 3; ++a) {
+    if (d.grid()[a] == 1) continue;
+    // Both directions scan the same particles: the owned ones and the ghosts of earlier axes (those of
+    // this axis stand outside the subdomain, beyond the face they came through).
+    const std::size_t scan = p.size();
+    const double lo = d.sub_lo(box, a), hi = d.sub_hi(box, a);
+    for (const int dir : {-1, +1}) {
+      Swap s;
+      s.axis = a;
+      s.to = d.neighbour(box, a, dir);
+      s.from = d.neighbour(box, a, -dir);
+      s.tag = tag_of(a, dir);
+      const double* c = coordinate(p, a);
+      if (s.to >= 0)
+        for (std::size_t i = 0; i < scan; ++i)
+          if (dir < 0 ? c[i] < lo + width : c[i] >= hi - width) s.send.push_back(static_cast<int>(i));
+      // Across a periodic face the receiver sees the particle one box length away: +L below the first
+      // subdomain's face (the last subdomain receives it), -L above the last one's.
+      std::int8_t wrap = 0;
+      if (dir < 0 && d.coord()[a] == 0) wrap = +1;
+      if (dir > 0 && d.coord()[a] == d.grid()[a] - 1) wrap = -1;
+
+      std::vector<char> out, in;
+      pack_value(static_cast<std::int64_t>(s.send.size()), out);
+      p.for_each_column([&](const char*, const auto& col) { pack_rows(col, s.send, out); });
+      for (const int i : s.send) {
+        auto sh = shift_of(static_cast<std::size_t>(i));
+        sh[a] = static_cast<std::int8_t>(sh[a] + wrap);
+        out.insert(out.end(), sh.begin(), sh.end());
+      }
+      sendrecv(out, s.to, in, s.from, s.tag);
+
+      s.first = p.size();
+      if (!in.empty()) {
+        Unpacker u(in);
+        s.count = static_cast<std::size_t>(u.value<std::int64_t>());
+        p.resize(s.first + s.count);
+        p.for_each_column([&](const char*, auto& col) { u.rows(col, s.first, s.count); });
+        for (std::size_t k = 0; k < s.count; ++k) {
+          std::array<std::int8_t, 3> sh{};
+          for (auto& v : sh) v = u.value<std::int8_t>();
+          shift_.push_back(sh);
+        }
+      }
+      swaps_.push_back(std::move(s));
+    }
+  }
+}
+
+void Halo::forward(Particles& p) const {
+  if (p.size() != owned_ + shift_.size()) throw std::logic_error("Halo::forward: the particles changed since borders()");
+  for (const Swap& s : swaps_) {
+    std::vector<char> out, in;
+    for (const auto* col : {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.wx, &p.wy, &p.wz}) pack_rows(*col, s.send, out);
+    sendrecv(out, s.to, in, s.from, s.tag);
+    if (in.size() != s.count * 9 * sizeof(double)) throw std::logic_error("Halo::forward: a ghost list changed size");
+    Unpacker u(in);
+    for (auto* col : {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.wx, &p.wy, &p.wz}) u.rows(*col, s.first, s.count);
+  }
+}
+
+std::size_t Halo::forward_bytes() const {
+  std::size_t n = 0;
+  for (const Swap& s : swaps_) n += s.send.size() * 9 * sizeof(double);
+  return n;
+}
+
+}  // namespace debris::comm
