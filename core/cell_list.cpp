@@ -79,6 +79,26 @@ void CellList::build(const BoxView& box, const double* x, const double* y, const
   exec::to_device(sorted_index_);
 }
 
+std::vector<int> CellList::sort_order(const std::int64_t* key) const {
+  std::vector<int> order = sort_order();
+  const int ncell = cell_count();
+  for (int c = 0; c < ncell; ++c) {
+    // Cells hold a handful of particles: insertion sort, stable and without allocation.
+    const auto first = order.begin() + cell_start_[static_cast<std::size_t>(c)];
+    const auto last = order.begin() + cell_start_[static_cast<std::size_t>(c) + 1];
+    for (auto it = first; it != last; ++it) {
+      const int v = *it;
+      auto hole = it;
+      while (hole != first && key[*(hole - 1)] > key[v]) {
+        *hole = *(hole - 1);
+        --hole;
+      }
+      *hole = v;
+    }
+  }
+  return order;
+}
+
 std::size_t CellList::bytes() const {
   return sizeof(int) * (cell_start_.capacity() + sorted_index_.capacity() + cell_of_.capacity() + cursor_.capacity());
 }

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "core/box.hpp"
@@ -56,6 +57,11 @@ class CellList {
 
   /// New order that groups particles by cell, for Particles::permute: sorted_index() itself.
   std::vector<int> sort_order() const { return std::vector<int>(sorted_index_.begin(), sorted_index_.end()); }
+  /// The same, each cell's particles in increasing `key` (host array, one per particle: the permanent ids).
+  /// The order then depends only on the positions and the ids, not on the order the particles came in: the
+  /// canonical order that makes sums the same bits on any storage order, and so on any rank count
+  /// (shared/design/scale-mpi.md, section 4).
+  std::vector<int> sort_order(const std::int64_t* key) const;
 
   /// Bytes held by the arrays.
   std::size_t bytes() const;

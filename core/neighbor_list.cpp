@@ -248,6 +248,15 @@ bool NeighborList::needs_rebuild(const BoxView& box, const Particles& p) const {
   return max_d2 > half_skin * half_skin;
 }
 
+void NeighborList::sort_rows() {
+  const int n = static_cast<int>(offset_.size()) - 1;
+  const int* __restrict off = offset_.data();
+  int* __restrict idx = index_.data();
+  DEBRIS_RESIDENT(off, idx);
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) sort_row(idx + off[i], off[i + 1] - off[i]);
+}
+
 std::size_t NeighborList::bytes() const {
   std::size_t staged = 0;
   for (const auto& rows : thread_rows_) staged += rows.capacity();

@@ -5,8 +5,10 @@
 // atomics. A pair is listed when its centres are closer than cutoff(r_i, r_j) + skin; the list stays
 // valid until some particle has drifted skin/2 (needs_rebuild).
 // Narrow size distributions use one grid of cells sized for the largest pair; a wide one (largest radius
-// at least twice the smallest) uses size classes (core/size_classes.hpp): a row then lists class 0's
-// neighbours first, then class 1's, and so on, each in stencil then cell order.
+// at least twice the smallest) uses size classes (core/size_classes.hpp).
+// Each row lists its neighbours in increasing index, whatever grid found them: with particles stored in a
+// canonical order (by cell, then id: CellList::sort_order(key)), a row is then the same sequence of
+// particles on any storage order of the input and on any decomposition, and so is every sum over it.
 #include <cstddef>
 #include <vector>
 
@@ -25,6 +27,21 @@ namespace debris {
 enum class NeighborKind { full, half };
 
 DEBRIS_DECLARE_TARGET
+
+/// Sorts a row's n neighbour indices in place, increasing. Rows are short and mostly in order already (the
+/// stencil visits the cells of cell-sorted storage in increasing order but across a periodic face), so an
+/// insertion sort is about one comparison per entry.
+inline void sort_row(int* a, int n) {
+  for (int k = 1; k < n; ++k) {
+    const int v = a[k];
+    int h = k;
+    while (h > 0 && a[h - 1] > v) {
+      a[h] = a[h - 1];
+      --h;
+    }
+    a[h] = v;
+  }
+}
 
 /// How many particles a stencil holds: room enough for the row of any particle in its centre cell.
 inline int stencil_candidates(const Stencil& st, const int* cell_start, int n0, int n1) {
@@ -224,6 +241,9 @@ class NeighborList {
   bool built_ = false;
   NeighborKind kind_ = NeighborKind::full;
   double skin_ = 0;
+  /// Each row in increasing neighbour index (offload builds, after the fill; host builds sort each row as
+  /// it is found).
+  void sort_rows();
 };
 
 template <class RowFn>
@@ -318,6 +338,7 @@ void NeighborList::build(const BoxView& box, const Particles& p, Cutoff cutoff, 
     for (int i = 0; i < n; ++i)
       neighbor_row_classes(i, cls[i], grids, x, y, z, r, start_all, sorted_all, b, cutoff, skin, half, wrapped,
                            idx + off[i]);
+    sort_rows();
     candidates_ = 0;
 #else
     // As neighbor_row_classes, with each class's stencil placed once for the room and the scan.
@@ -337,6 +358,7 @@ void NeighborList::build(const BoxView& box, const Particles& p, Cutoff cutoff, 
         count += neighbor_row(i, st[c], x, y, z, r, start_all + g[c].start_base, sorted_all, g[c].n0, g[c].n1,
                               g[c].n2, b, cutoff, skin, g[c].reach2, half, wrapped, out + count);
       }
+      sort_row(out, count);  // the classes' neighbours interleave by index
       return count;
     });
 #endif
@@ -372,12 +394,16 @@ void NeighborList::build(const BoxView& box, const Particles& p, Cutoff cutoff, 
     neighbor_row(i, st, x, y, z, r, cell_start, sorted, n0, n1, n2, b, cutoff, skin, reach2, half, wrapped,
                  idx + off[i]);
   }
+  sort_rows();
   candidates_ = 0;
 #else
   fill_rows_host(n, [&](int i, auto& room) {
     const Stencil st = cell_stencil(cell_of[i], n0, n1, n2, b.periodic);
-    return neighbor_row(i, st, x, y, z, r, cell_start, sorted, n0, n1, n2, b, cutoff, skin, reach2, half, wrapped,
-                        room(stencil_candidates(st, cell_start, n0, n1)));
+    int* out = room(stencil_candidates(st, cell_start, n0, n1));
+    const int count = neighbor_row(i, st, x, y, z, r, cell_start, sorted, n0, n1, n2, b, cutoff, skin, reach2, half,
+                                   wrapped, out);
+    sort_row(out, count);  // while the row is in cache
+    return count;
   });
 #endif
   record(box, p, skin, kind);

@@ -149,7 +149,11 @@ void DemSimulation::rebuild(const std::vector<int>* order) {
   } else if (settings_.sort_by_cell) {
     sorter_.build(box_.view(), p_.x.data(), p_.y.data(), p_.z.data(), static_cast<int>(p_.size()),
                   max_cutoff_ + skin_);
-    p_.permute_resident(sorter_.sort_order());
+    // By cell, then by id: the canonical order, which the positions and ids alone decide, so every
+    // per-particle sum (rows in increasing index) has the same terms in the same order however the particles
+    // were stored before (offload builds: the ids come back to the host for it, n int64 per build).
+    exec::to_host(p_.id);
+    p_.permute_resident(sorter_.sort_order(p_.id.data()));
     ++layout_generation_;
   }
   list_.build(box_.view(), p_, CohesiveCutoff{coef_}, max_cutoff_, skin_,
