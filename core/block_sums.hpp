@@ -25,7 +25,9 @@
 // like every other, core/exec.hpp).
 #include <array>
 #include <cstddef>
+#include <cstdint>
 
+#include "core/comm/exact_sum.hpp"
 #include "core/exec.hpp"
 
 namespace debris {
@@ -77,5 +79,57 @@ class BlockPartials {
  private:
   exec::DeviceVector<double> v_;
 };
+
+/// Per-block partial sums that are exact: each block adds its terms into accumulators of its own
+/// (comm::exact_add, comm::kExactWords int64 each, zeroed by the block first), and the host adds the
+/// blocks' accumulators as integers and rounds once. The result is the correctly rounded sum of the terms,
+/// the same bits for any thread count, device, block size, storage order and (summed over ranks with
+/// comm::allreduce) rank count: what the sums that feed back into the dynamics (group reactions, the
+/// stress that drives the box) and the thermo table use, since a rank holds its particles in an order of
+/// its own (shared/design/scale-mpi.md, section 4).
+///
+///   std::int64_t* part = partials.reserve(K * blocks);   // accumulators
+///   DEBRIS_KERNEL
+///   for (int b = 0; b < blocks; ++b) {
+///     std::int64_t* acc = part + K * kExactWords * b;
+///     exact_zero(acc, K);
+///     for (i in block b) { comm::exact_add(acc, e_i); comm::exact_add(acc + kExactWords, q_i); }
+///   }
+///   partials.to_host(K * blocks);
+///   const auto total = partials.add_up<K>(blocks);
+class ExactPartials {
+ public:
+  ExactPartials() = default;
+  ExactPartials(const ExactPartials&) {}
+  ExactPartials& operator=(const ExactPartials&) { return *this; }
+  ExactPartials(ExactPartials&&) noexcept = default;
+  ExactPartials& operator=(ExactPartials&&) noexcept = default;
+
+  /// Room for at least n accumulators (n x comm::kExactWords int64), on the device in offload builds.
+  std::int64_t* reserve(std::size_t n);
+  /// Transfer point: device -> host of the first n accumulators after a kernel filled them.
+  void to_host(std::size_t n) const;
+  /// The sums of K quantities over the blocks ([block][K] accumulators), each correctly rounded.
+  template <int K>
+  std::array<double, K> add_up(int blocks) const {
+    std::array<double, K> t{};
+    add_up(blocks, K, t.data());
+    return t;
+  }
+  void add_up(int blocks, int k, double* out) const;
+  /// The same, kept exact (to add other ranks' sums before rounding: comm::allreduce).
+  void add_up(int blocks, int k, comm::ExactSum* out) const;
+
+ private:
+  void add_up_one(int blocks, int k, int q, comm::ExactSum& sum) const;
+  exec::DeviceVector<std::int64_t> v_;
+};
+
+DEBRIS_DECLARE_TARGET
+/// Zeroes k accumulators (k x comm::kExactWords int64). Runs in kernels.
+inline void exact_zero(std::int64_t* acc, int k) {
+  for (int i = 0; i < k * comm::kExactWords; ++i) acc[i] = 0;
+}
+DEBRIS_END_DECLARE_TARGET
 
 }  // namespace debris

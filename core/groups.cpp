@@ -68,24 +68,24 @@ void Groups::sum_by_group(const Particles& p, const double* a, const double* b, 
   const int blocks = sum_blocks(n);
   const int k = 3 * ng;  // sums per block
   const std::size_t len = static_cast<std::size_t>(blocks) * static_cast<std::size_t>(k);
-  double* part = partials_.reserve(len);
+  std::int64_t* part = partials_.reserve(len);
   const int* group = p.group.data();
-  // One pass for all groups: each block sums its members in index order into its own slice, whichever
-  // thread (or device team) runs it, then the host adds the slices in block order: the same bits on any
-  // thread count or device.
+  // One pass for all groups: each block adds its members' terms into its own exact accumulators (whichever
+  // thread or device team runs it), then the host adds the blocks' accumulators as integers: the same bits
+  // in any order.
   DEBRIS_RESIDENT(part, group, a, b, c, w);
   DEBRIS_KERNEL
   for (int blk = 0; blk < blocks; ++blk) {
-    double* s = part + static_cast<std::size_t>(blk) * static_cast<std::size_t>(k);
-    for (int j = 0; j < k; ++j) s[j] = 0.0;
+    std::int64_t* s = part + static_cast<std::size_t>(blk) * static_cast<std::size_t>(k) * comm::kExactWords;
+    exact_zero(s, k);
     const BlockRange r = block_range(blk, n);
     for (int i = r.begin; i < r.end; ++i) {
       const int g = group[i];
       if (g < 0) continue;
       const double wi = w ? w[i] : 1.0;  // 1.0 * x is exact
-      s[3 * g] += wi * a[i];
-      s[3 * g + 1] += wi * b[i];
-      s[3 * g + 2] += wi * c[i];
+      comm::exact_add(s + (3 * g) * comm::kExactWords, wi * a[i]);
+      comm::exact_add(s + (3 * g + 1) * comm::kExactWords, wi * b[i]);
+      comm::exact_add(s + (3 * g + 2) * comm::kExactWords, wi * c[i]);
     }
   }
   partials_.to_host(len);

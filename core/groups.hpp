@@ -19,10 +19,10 @@
 // Group::velocity exactly, and its reaction is still measured (the friction force of the junction). Rigid
 // groups translate only: their members never spin.
 //
-// The reactions (and free groups' momenta) are summed in fixed blocks of kSumBlock particles, each block in
-// index order, the blocks then added in order (core/block_sums): the same bits on any thread count, so a
-// force group moves the same way on 1 or 16 threads and a checkpoint continues bit for bit with another
-// --threads.
+// The reactions (and free groups' momenta) are exact sums (core/block_sums' ExactPartials: each term on
+// a fixed grid, added as integers, rounded once): the same bits on any thread count, storage order or rank
+// count, so a force group moves the same way on 1 or 16 threads (or ranks) and a checkpoint continues bit
+// for bit with another --threads.
 #include <array>
 #include <cstddef>
 #include <string>
@@ -83,7 +83,7 @@ class Groups {
   void accumulate_displacements(const Particles& p, double dt);
 
  private:
-  /// Sums a[i] (b[i], c[i]) of each group's members into out[g]; fixed order, one pass for all groups.
+  /// Sums w[i] a[i] (b[i], c[i]) of each group's members into out[g], exactly; one pass for all groups.
   void sum_by_group(const Particles& p, const double* a, const double* b, const double* c, const double* w,
                     std::vector<Vec3>& out);
 
@@ -91,7 +91,7 @@ class Groups {
   // sums, [block][group][xyz] (core/block_sums: computed on the device, copied back by sum_by_group).
   exec::DeviceVector<int> mode_;
   exec::DeviceVector<double> vx_, vy_, vz_;
-  BlockPartials partials_;
+  ExactPartials partials_;
   std::vector<Vec3> sums_;
   std::vector<double> sums_flat_;  // sum_by_group's block sums added up, [group][xyz]
 };

@@ -70,14 +70,16 @@ CohesiveDiagnostics cohesive_diagnostics(const CohesiveCoefficients& c, const Co
   const BoxView b = box;
   // A full list holds each pair twice: half of its energy per appearance.
   const double share = list.kind() == NeighborKind::full ? 0.5 : 1.0;
-  // The energy in fixed-order blocks of rows (core/block_sums.hpp): the same bits on any thread count.
+  // The energy in exact block sums of rows (core/block_sums.hpp): the same bits on any thread count, storage
+  // order or rank count.
   const int blocks = sum_blocks(n);
-  BlockPartials partials;
-  double* part = partials.reserve(2 * static_cast<std::size_t>(blocks));
+  ExactPartials partials;
+  std::int64_t* part = partials.reserve(2 * static_cast<std::size_t>(blocks));
   DEBRIS_RESIDENT(part, offset, index, x, y, z, radius, mass, hx, hy, hz);
   DEBRIS_KERNEL
   for (int blk = 0; blk < blocks; ++blk) {
-    double e = 0.0, q = 0.0;
+    std::int64_t* s = part + 2 * comm::kExactWords * static_cast<std::size_t>(blk);
+    exact_zero(s, 2);
     const BlockRange r = block_range(blk, n);
     for (int i = r.begin; i < r.end; ++i) {
       for (int k = offset[i]; k < offset[i + 1]; ++k) {
@@ -85,12 +87,10 @@ CohesiveDiagnostics cohesive_diagnostics(const CohesiveCoefficients& c, const Co
         const Vec3 dx = minimum_image(b, Vec3{x[i] - x[j], y[i] - y[j], z[i] - z[j]});
         const CohesivePairParams pp = cohesive_pair_params(coef, radius[i], radius[j], mass[i], mass[j]);
         const double dn = norm(dx) - radius[i] - radius[j];
-        e += share * cohesive_pair_energy(pp, o, dn, Vec3{hx[k], hy[k], hz[k]});
-        if (dn <= (o.adhesive ? pp.delta_f : 0.0)) q += share;
+        comm::exact_add(s, share * cohesive_pair_energy(pp, o, dn, Vec3{hx[k], hy[k], hz[k]}));
+        if (dn <= (o.adhesive ? pp.delta_f : 0.0)) comm::exact_add(s + comm::kExactWords, share);
       }
     }
-    part[2 * blk] = e;
-    part[2 * blk + 1] = q;
   }
   partials.to_host(2 * static_cast<std::size_t>(blocks));
   const auto sums = partials.add_up<2>(blocks);

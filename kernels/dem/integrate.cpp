@@ -93,29 +93,31 @@ ParticleTotals particle_totals(const Particles& p) {
   const double *vx = p.vx.data(), *vy = p.vy.data(), *vz = p.vz.data();
   const double *wx = p.wx.data(), *wy = p.wy.data(), *wz = p.wz.data();
   const double *mass = p.mass.data(), *inertia = p.inertia.data();
-  // Fixed-order block sums (core/block_sums.hpp): the thermo table has the same bits on any thread count.
+  // Exact block sums (core/block_sums.hpp): the thermo table has the same bits on any thread count, storage
+  // order or rank count.
   constexpr int K = 7;  // kinetic energy, momentum, angular momentum
   const int blocks = sum_blocks(n);
-  BlockPartials partials;
-  double* part = partials.reserve(static_cast<std::size_t>(K) * static_cast<std::size_t>(blocks));
+  ExactPartials partials;
+  std::int64_t* part = partials.reserve(static_cast<std::size_t>(K) * static_cast<std::size_t>(blocks));
   DEBRIS_RESIDENT(part, x, y, z, vx, vy, vz, wx, wy, wz, mass, inertia);
   DEBRIS_KERNEL
   for (int b = 0; b < blocks; ++b) {
-    double ke = 0, px = 0, py = 0, pz = 0, lx = 0, ly = 0, lz = 0;
+    std::int64_t* s = part + static_cast<std::size_t>(K) * comm::kExactWords * static_cast<std::size_t>(b);
+    exact_zero(s, K);
     const BlockRange r = block_range(b, n);
     for (int i = r.begin; i < r.end; ++i) {
-      ke += 0.5 * mass[i] * (vx[i] * vx[i] + vy[i] * vy[i] + vz[i] * vz[i]) +
-            0.5 * inertia[i] * (wx[i] * wx[i] + wy[i] * wy[i] + wz[i] * wz[i]);
-      px += mass[i] * vx[i];
-      py += mass[i] * vy[i];
-      pz += mass[i] * vz[i];
+      const double ke = 0.5 * mass[i] * (vx[i] * vx[i] + vy[i] * vy[i] + vz[i] * vz[i]) +
+                        0.5 * inertia[i] * (wx[i] * wx[i] + wy[i] * wy[i] + wz[i] * wz[i]);
       const Vec3 l = mass[i] * cross(Vec3{x[i], y[i], z[i]}, Vec3{vx[i], vy[i], vz[i]});
-      lx += l.x + inertia[i] * wx[i];
-      ly += l.y + inertia[i] * wy[i];
-      lz += l.z + inertia[i] * wz[i];
+      const double term[K] = {ke,
+                              mass[i] * vx[i],
+                              mass[i] * vy[i],
+                              mass[i] * vz[i],
+                              l.x + inertia[i] * wx[i],
+                              l.y + inertia[i] * wy[i],
+                              l.z + inertia[i] * wz[i]};
+      for (int q = 0; q < K; ++q) comm::exact_add(s + q * comm::kExactWords, term[q]);
     }
-    double* s = part + static_cast<std::size_t>(K) * static_cast<std::size_t>(b);
-    s[0] = ke, s[1] = px, s[2] = py, s[3] = pz, s[4] = lx, s[5] = ly, s[6] = lz;
   }
   partials.to_host(static_cast<std::size_t>(K) * static_cast<std::size_t>(blocks));
   const auto t = partials.add_up<K>(blocks);

@@ -86,30 +86,27 @@ StressTensor virial_stress(const CohesiveCoefficients& c, const CohesiveOptions&
   const int kin = kinetic ? 1 : 0;
   const int half = list.kind() == NeighborKind::half ? 1 : 0;
   const double inv = 1.0 / volume;
-  // Fixed blocks of particles, each summed in index order, then the block sums in block order on the host
-  // (core/block_sums), so the result is the same bits for any thread count or device (the amorphous
-  // relaxation feeds it back into the box). Blocks of 256, not kSumBlock: the stress has always been summed
-  // so, and a larger block would change its last bits and those of every relaxed sample.
-  constexpr int kVirialBlock = 256;
+  // Exact block sums (core/block_sums): the same bits for any thread count, device, storage order or rank
+  // count (the amorphous relaxation feeds the stress back into the box).
   constexpr int K = 6;  // xx, yy, zz, xy, xz, yz
-  const int blocks = sum_blocks(n, kVirialBlock);
-  BlockPartials partials;
-  double* __restrict part = partials.reserve(static_cast<std::size_t>(K) * static_cast<std::size_t>(blocks));
+  const int blocks = sum_blocks(n);
+  ExactPartials partials;
+  std::int64_t* __restrict part = partials.reserve(static_cast<std::size_t>(K) * static_cast<std::size_t>(blocks));
   // The caller's mask is a host array: a copy on the device for this call (offload builds).
   exec::DeviceVector<int> select_copy;
   sel = exec::on_device(sel, static_cast<std::size_t>(n), select_copy);
   DEBRIS_RESIDENT(part, sel, offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius, mass, hx, hy, hz);
   DEBRIS_KERNEL
   for (int blk = 0; blk < blocks; ++blk) {
-    StressTensor t;
-    const BlockRange r = block_range(blk, n, kVirialBlock);
+    std::int64_t* s = part + static_cast<std::size_t>(K) * comm::kExactWords * static_cast<std::size_t>(blk);
+    exact_zero(s, K);
+    const BlockRange r = block_range(blk, n);
     for (int i = r.begin; i < r.end; ++i) {
       const StressTensor w = particle_virial(i, half, sel, offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius,
                                              mass, hx, hy, hz, coef, o, b, kin);
-      t.xx += w.xx, t.yy += w.yy, t.zz += w.zz, t.xy += w.xy, t.xz += w.xz, t.yz += w.yz;
+      const double term[K] = {w.xx, w.yy, w.zz, w.xy, w.xz, w.yz};
+      for (int q = 0; q < K; ++q) comm::exact_add(s + q * comm::kExactWords, term[q]);
     }
-    double* s = part + static_cast<std::size_t>(K) * static_cast<std::size_t>(blk);
-    s[0] = t.xx, s[1] = t.yy, s[2] = t.zz, s[3] = t.xy, s[4] = t.xz, s[5] = t.yz;
   }
   partials.to_host(static_cast<std::size_t>(K) * static_cast<std::size_t>(blocks));
   const auto s = partials.add_up<K>(blocks);
