@@ -20,6 +20,7 @@ void Halo::borders(const Decomposition& d, const Box& box, double width, Particl
   owned_ = n_owned;
   swaps_.clear();
   shift_.clear();
+  ghost_index_.clear();
   const auto shift_of = [&](std::size_t i) {
     return i < owned_ ? std::array<std::int8_t, 3>{0, 0, 0} : shift_[i - owned_];
   };
@@ -65,6 +66,7 @@ void Halo::borders(const Decomposition& d, const Box& box, double width, Particl
           std::array<std::int8_t, 3> sh{};
           for (auto& v : sh) v = u.value<std::int8_t>();
           shift_.push_back(sh);
+          ghost_index_.push_back(static_cast<int>(s.first + k));
         }
       }
       swaps_.push_back(std::move(s));
@@ -80,8 +82,19 @@ void Halo::forward(Particles& p) const {
     sendrecv(out, s.to, in, s.from, s.tag);
     if (in.size() != s.count * 9 * sizeof(double)) throw std::logic_error("Halo::forward: a ghost list changed size");
     Unpacker u(in);
-    for (auto* col : {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.wx, &p.wy, &p.wz}) u.rows(*col, s.first, s.count);
+    const int* slot = ghost_index_.data() + (s.first - owned_);
+    for (auto* col : {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.wx, &p.wy, &p.wz})
+      for (std::size_t k = 0; k < s.count; ++k) (*col)[static_cast<std::size_t>(slot[k])] = u.value<double>();
   }
+}
+
+void Halo::permute(const std::vector<int>& order) {
+  if (order.size() != owned_ + shift_.size()) throw std::logic_error("Halo::permute: not an order of all particles");
+  std::vector<int> now(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i) now[static_cast<std::size_t>(order[i])] = static_cast<int>(i);
+  for (Swap& s : swaps_)
+    for (int& i : s.send) i = now[static_cast<std::size_t>(i)];
+  for (int& i : ghost_index_) i = now[static_cast<std::size_t>(i)];
 }
 
 std::size_t Halo::forward_bytes() const {

@@ -32,12 +32,17 @@ class Halo {
   void borders(const Decomposition& d, const Box& box, double width, Particles& p, std::size_t n_owned);
   /// x, y, z, v and omega of every sent particle again, into the same ghost slots (between rebuilds).
   void forward(Particles& p) const;
+  /// Follows a reordering of all the particles (owned and ghosts) after borders(): new index i holds the
+  /// particle that was at order[i]. The send lists and ghost slots move with them, so forward() still fills
+  /// the right slots (a rank stores owned particles and ghosts together in the canonical order).
+  void permute(const std::vector<int>& order);
 
   std::size_t owned() const { return owned_; }
   std::size_t ghosts() const { return shift_.size(); }
-  /// Image shift of ghost k (stored at index owned() + k) along each axis, in box lengths: it stands at
-  /// x + shift L beside this subdomain.
+  /// Image shift of ghost k along each axis, in box lengths: it stands at x + shift L beside this subdomain.
   const std::vector<std::array<std::int8_t, 3>>& shifts() const { return shift_; }
+  /// Where ghost k is stored: owned() + k after borders(), wherever permute() put it since.
+  const std::vector<int>& ghost_index() const { return ghost_index_; }
   /// Bytes this rank sends in one forward().
   std::size_t forward_bytes() const;
 
@@ -45,11 +50,12 @@ class Halo {
   struct Swap {
     int axis = 0, to = -1, from = -1, tag = 0;
     std::vector<int> send;          // indices of the sent particles (owned, or ghosts of an earlier axis)
-    std::size_t first = 0, count = 0;  // where its ghosts were stored, how many
+    std::size_t first = 0, count = 0;  // its ghosts: ghost_index_[first - owned_ ...], how many
   };
   std::vector<Swap> swaps_;
   std::size_t owned_ = 0;
   std::vector<std::array<std::int8_t, 3>> shift_;
+  std::vector<int> ghost_index_;
 };
 
 }  // namespace debris::comm
