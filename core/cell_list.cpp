@@ -21,8 +21,7 @@ long long cells_on_axis(double len, double min_cell_size, bool periodic) {
 
 }  // namespace
 
-void CellList::build(const BoxView& box, const double* x, const double* y, const double* z, int n,
-                     double min_cell_size) {
+CellList::Grid CellList::grid_for(const BoxView& box, long long n, double min_cell_size) {
   if (!(std::isfinite(min_cell_size) && min_cell_size > 0)) {
     std::ostringstream v;
     v << min_cell_size;
@@ -37,9 +36,20 @@ void CellList::build(const BoxView& box, const double* x, const double* y, const
     nc[a] /= 2;
     if (nc[a] < 1 || (box.periodic[a] && nc[a] < 3)) nc[a] = 1;
   }
+  Grid g;
   for (int a = 0; a < 3; ++a) {
-    dims_[a] = static_cast<int>(nc[a]);
-    edge_[a] = box.len[a] / dims_[a];
+    g.dims[static_cast<std::size_t>(a)] = static_cast<int>(nc[a]);
+    g.edge[static_cast<std::size_t>(a)] = box.len[a] / g.dims[static_cast<std::size_t>(a)];
+  }
+  return g;
+}
+
+void CellList::build(const BoxView& box, const double* x, const double* y, const double* z, int n,
+                     double min_cell_size) {
+  const Grid g = grid_for(box, n, min_cell_size);
+  for (int a = 0; a < 3; ++a) {
+    dims_[a] = g.dims[static_cast<std::size_t>(a)];
+    edge_[a] = g.edge[static_cast<std::size_t>(a)];
   }
   n_ = n;
   const int ncell = cell_count();

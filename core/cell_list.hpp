@@ -67,7 +67,15 @@ class CellList {
   std::size_t bytes() const;
 
   /// Upper bound on the number of cells for n particles: cell bookkeeping stays O(n) in memory and time.
-  static long long max_cells(int n) { return 8LL * (n > 0 ? n : 0) + 4096; }
+  static long long max_cells(long long n) { return 8LL * (n > 0 ? n : 0) + 4096; }
+
+  /// The grid build() makes for n particles: cells per axis and their edges. A rank that holds a part of a
+  /// system asks for the whole system's grid with the whole count (core/canonical_order).
+  struct Grid {
+    std::array<int, 3> dims{};
+    std::array<double, 3> edge{};
+  };
+  static Grid grid_for(const BoxView& box, long long n, double min_cell_size);
 
  private:
   int dims_[3] = {0, 0, 0};

@@ -72,6 +72,10 @@ inline std::int64_t allreduce_sum(std::int64_t v) {
 /// comes back empty); to == from == rank() copies `out` into `in`.
 void sendrecv(const std::vector<char>& out, int to, std::vector<char>& in, int from, int tag);
 
+/// The same when both sides know the sizes (a halo's forward(): fixed lists between rebuilds): one message
+/// each way, into `in_bytes` bytes at `in`.
+void sendrecv_sized(const char* out, std::size_t out_bytes, int to, char* in, std::size_t in_bytes, int from, int tag);
+
 /// Every rank's bytes, in rank order, on every rank: parts[r] is what rank r gave.
 std::vector<std::vector<char>> allgather(const std::vector<char>& mine);
 

@@ -76,15 +76,20 @@ void Halo::borders(const Decomposition& d, const Box& box, double width, Particl
 
 void Halo::forward(Particles& p) const {
   if (p.size() != owned_ + shift_.size()) throw std::logic_error("Halo::forward: the particles changed since borders()");
+  constexpr int kFields = 9;  // x, v, omega
   for (const Swap& s : swaps_) {
-    std::vector<char> out, in;
-    for (const auto* col : {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.wx, &p.wy, &p.wz}) pack_rows(*col, s.send, out);
-    sendrecv(out, s.to, in, s.from, s.tag);
-    if (in.size() != s.count * 9 * sizeof(double)) throw std::logic_error("Halo::forward: a ghost list changed size");
-    Unpacker u(in);
+    // Sizes are fixed between rebuilds on both sides: one message each way, no size exchange.
+    out_.resize(kFields * s.send.size());
+    in_.resize(kFields * s.count);
+    double* o = out_.data();
+    for (const auto* col : {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.wx, &p.wy, &p.wz})
+      for (const int i : s.send) *o++ = (*col)[static_cast<std::size_t>(i)];
+    sendrecv_sized(reinterpret_cast<const char*>(out_.data()), out_.size() * sizeof(double), s.to,
+                   reinterpret_cast<char*>(in_.data()), in_.size() * sizeof(double), s.from, s.tag);
+    const double* in = in_.data();
     const int* slot = ghost_index_.data() + (s.first - owned_);
     for (auto* col : {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.wx, &p.wy, &p.wz})
-      for (std::size_t k = 0; k < s.count; ++k) (*col)[static_cast<std::size_t>(slot[k])] = u.value<double>();
+      for (std::size_t k = 0; k < s.count; ++k) (*col)[static_cast<std::size_t>(slot[k])] = *in++;
   }
 }
 

@@ -56,6 +56,7 @@ class Halo {
   std::size_t owned_ = 0;
   std::vector<std::array<std::int8_t, 3>> shift_;
   std::vector<int> ghost_index_;
+  mutable std::vector<double> out_, in_;  // forward()'s buffers, kept: no allocation in a step
 };
 
 }  // namespace debris::comm

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/box.hpp"
+#include "core/canonical_order.hpp"
 #include "core/cell_list.hpp"
 #include "core/comm/communicator.hpp"
 #include "core/comm/decomposition.hpp"
@@ -49,28 +50,6 @@ struct Pass {
     cohesive_contact_pass_half(table, CohesiveOptions{}, box.view(), p, list, history, dt, update, scratch);
   }
 };
-
-// The canonical order: by cell of one global grid (the same on every rank: built from the whole box and
-// the whole system's particle count), then by id. A ghost is binned by its owner's coordinates, as the
-// serial run bins the particle itself.
-std::vector<int> canonical_order(const CellList& global, const Box& box, const Particles& p) {
-  const BoxView b = box.view();
-  const auto dims = global.dims();
-  const auto edge = global.cell_edge();
-  std::vector<std::pair<std::int64_t, std::int64_t>> key(p.size());
-  const double* c[3] = {p.x.data(), p.y.data(), p.z.data()};
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    std::int64_t cell = 0;
-    for (int a = 2; a >= 0; --a)
-      cell = cell * dims[static_cast<std::size_t>(a)] +
-             cell_coordinate(c[a][i], b.lo[a], 1.0 / edge[static_cast<std::size_t>(a)], dims[static_cast<std::size_t>(a)], b.periodic[a]);
-    key[i] = {cell, p.id[i]};
-  }
-  std::vector<int> order(p.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
-  std::sort(order.begin(), order.end(), [&](int u, int v) { return key[static_cast<std::size_t>(u)] < key[static_cast<std::size_t>(v)]; });
-  return order;
-}
 
 std::vector<std::array<int, 3>> grids_for(int n) {
   switch (n) {
@@ -113,13 +92,13 @@ TEST(DistributedForces, OwnedParticlesGetTheSerialBitsAtEveryStep) {
     const double r_min = *std::min_element(all.radius.begin(), all.radius.end());
     const double max_cutoff = CohesiveCutoff{coef}(r_max, r_max), skin = 0.2 * r_min, w = max_cutoff + skin;
     const double dt = 0.1 * stability_limits(coef, all).dt_c;
-    CellList global;
-    global.build(box.view(), all.x.data(), all.y.data(), all.z.data(), static_cast<int>(all.size()), w);
+    // One grid for every rank: the whole box, the whole system's count (core/canonical_order).
+    const CanonicalGrid global = CanonicalGrid::of(box.view(), static_cast<long long>(all.size()), w);
     const int steps = 40;
 
     // The serial run, stored canonically: forces at step 0 and after every step.
     Particles serial = all;
-    serial.permute(canonical_order(global, box, serial));
+    serial.permute(canonical_order(global, serial));
     Pass sp;
     sp.build(box, coef, serial, max_cutoff, skin);
     sp.forces(box, serial, dt, 0);
@@ -153,7 +132,7 @@ TEST(DistributedForces, OwnedParticlesGetTheSerialBitsAtEveryStep) {
       Halo halo;
       halo.borders(d, box, w, p, owned);
       // Owned particles and ghosts together in the canonical order; the halo follows.
-      const std::vector<int> order = canonical_order(global, box, p);
+      const std::vector<int> order = canonical_order(global, p);
       p.permute(order);
       halo.permute(order);
       is_owned.assign(p.size(), 0);

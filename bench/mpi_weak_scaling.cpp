@@ -1,0 +1,169 @@
+// Weak scaling of the distributed contact step, on demand (not in ctest):
+//   mpirun -np P build-mpi/bin/debris_mpi_weak_scaling [--per-rank 32000,256000] [--steps 50]
+// Each rank holds about N particles of an FCC block P times longer in x (Table 4's material, sizes spread
+// 2%, displaced), cut into P slabs (the least-surface grid for that box). One step here is what the
+// distributed DEM step will run between rebuilds: integrate, forward() of the halo (x, v, omega), the
+// half-list contact pass over owned particles and ghosts in the canonical order. Reports, per rank: owned
+// particles, ghosts (and the slab model's count, 2 w L_y L_z n), halo bytes per step against the model's
+// 72 B per ghost, particle-steps/s (owned particles x steps / wall time of the steps), the comm share of the
+// step, and the cost of a rebuild's halo and canonical order against its list build.
+// Without MPI (a serial build) it runs the P = 1 case.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/box.hpp"
+#include "core/canonical_order.hpp"
+#include "core/comm/communicator.hpp"
+#include "core/comm/decomposition.hpp"
+#include "core/comm/halo.hpp"
+#include "core/comm/migration.hpp"
+#include "core/contact_history.hpp"
+#include "core/exec.hpp"
+#include "core/groups.hpp"
+#include "core/lattice.hpp"
+#include "core/neighbor_list.hpp"
+#include "kernels/dem/cohesive_contact_half.hpp"
+#include "kernels/dem/cohesive_material.hpp"
+#include "kernels/dem/cohesive_pair_table.hpp"
+#include "kernels/dem/integrate.hpp"
+
+namespace {
+using namespace debris;
+using Clock = std::chrono::steady_clock;
+double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+
+// Min, max and mean over ranks.
+struct Spread {
+  double min, max, mean;
+};
+Spread over_ranks(double v) {
+  double mn = v, mx = v;
+  comm::allreduce_min(&mn, 1);
+  comm::allreduce_max(&mx, 1);
+  comm::ExactSum s;
+  s.add(v);
+  comm::allreduce(&s, 1);
+  return {mn, mx, s.value() / comm::size()};
+}
+
+void run(int per_rank, int steps) {
+  const int ranks = comm::size();
+  const int c = std::max(3, static_cast<int>(std::lround(std::cbrt(per_rank / 4.0))));
+  LatticeSpec spec;
+  spec.kind = LatticeKind::fcc;
+  spec.spacing = 100;
+  spec.diameter = 100;
+  spec.size_spread = 0.02;
+  spec.displacement = 0.3;
+  spec.cells = {ranks * c, c, c};
+  spec.seed = 3;
+  Lattice lat = make_lattice(spec);
+  const Box box(lat.box.lo(), lat.box.hi(), {true, true, true});
+  CohesiveMaterial material = table4_material(0.0);
+  material.restitution = 0.9;
+  const CohesiveCoefficients coef = CohesiveCoefficients::from(material);
+  Particles& all = lat.particles;
+  all.set_mass_from_density(material.density);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (std::size_t i = 0; i < all.size(); ++i) all.vx[i] = 2e-4 * u(rng), all.vy[i] = 2e-4 * u(rng), all.vz[i] = 2e-4 * u(rng);
+  box.wrap(all);
+  const double r_max = *std::max_element(all.radius.begin(), all.radius.end());
+  const double r_min = *std::min_element(all.radius.begin(), all.radius.end());
+  const double max_cutoff = CohesiveCutoff{coef}(r_max, r_max), skin = 0.2 * r_min, w = max_cutoff + skin;
+  const double dt = 0.1 * stability_limits(coef, all).dt_c;
+  const auto n_total = static_cast<long long>(all.size());
+  const auto d = comm::Decomposition::make(box, ranks, comm::rank(), w);
+  Particles p = std::move(all);
+  comm::keep_owned(d, box, p);
+  const std::size_t owned = p.size();
+
+  // A rebuild's distributed part: halo, canonical order; then the list build as a single rank does it.
+  comm::barrier();
+  const auto t0 = Clock::now();
+  comm::Halo halo;
+  halo.borders(d, box, w, p, owned);
+  const auto t1 = Clock::now();
+  const std::vector<int> order = canonical_order(CanonicalGrid::of(box.view(), n_total, w), p);
+  p.permute(order);
+  halo.permute(order);
+  const auto t2 = Clock::now();
+  NeighborList list;
+  list.build(box.view(), p, CohesiveCutoff{coef}, max_cutoff, skin, NeighborKind::half);
+  ContactHistory history;
+  history.reset(list);
+  CohesivePairTable table;
+  table.build(coef, p, list);
+  HalfPassScratch scratch;
+  scratch.index(list);
+  const auto t3 = Clock::now();
+  cohesive_contact_pass_half(table, CohesiveOptions{}, box.view(), p, list, history, dt, 0, scratch);
+
+  const Groups::View none{};
+  double t_comm = 0, t_compute = 0;
+  comm::barrier();
+  const auto s0 = Clock::now();
+  for (int s = 0; s < steps; ++s) {
+    const auto a = Clock::now();
+    integrate_semi_implicit_euler(p, none, dt);
+    const auto b = Clock::now();
+    halo.forward(p);
+    const auto e = Clock::now();
+    cohesive_contact_pass_half(table, CohesiveOptions{}, box.view(), p, list, history, dt, 1, scratch);
+    const auto f = Clock::now();
+    t_compute += seconds(a, b) + seconds(e, f);
+    t_comm += seconds(b, e);
+  }
+  comm::barrier();
+  const double wall = seconds(s0, Clock::now());
+
+  // The slab model (a rank's two faces, width w, the lattice's number density): ghosts and 72 B each.
+  const double density = static_cast<double>(n_total) / box.volume();
+  const double model_ghosts = ranks > 1 ? 2.0 * w * box.length(1) * box.length(2) * density : 0.0;
+  const Spread ghosts = over_ranks(static_cast<double>(halo.ghosts()));
+  const Spread bytes = over_ranks(static_cast<double>(halo.forward_bytes()));
+  const Spread rate = over_ranks(static_cast<double>(owned) * steps / wall);
+  const Spread comm_share = over_ranks(t_comm / (t_comm + t_compute));
+  const Spread halo_time = over_ranks(seconds(t0, t1)), order_time = over_ranks(seconds(t1, t2)),
+               list_time = over_ranks(seconds(t2, t3));
+  const Spread n_owned = over_ranks(static_cast<double>(owned));
+  if (comm::rank() == 0) {
+    std::printf("%d rank(s), %s, %lld particles, %d steps, %d thread(s) per rank\n", ranks, d.describe().c_str(), n_total,
+                steps, exec::threads());
+    std::printf("  owned per rank          %.0f (max %.0f)\n", n_owned.mean, n_owned.max);
+    std::printf("  ghosts per rank         %.0f (max %.0f; slab model %.0f)\n", ghosts.mean, ghosts.max, model_ghosts);
+    std::printf("  halo bytes per step     %.0f (max %.0f; model %.0f = 72 B x model ghosts)\n", bytes.mean, bytes.max,
+                72.0 * model_ghosts);
+    std::printf("  particle-steps/s/rank   %.3g M (slowest rank %.3g M)\n", rate.mean / 1e6, rate.min / 1e6);
+    std::printf("  comm share of a step    %.1f%% (max %.1f%%)\n", 100 * comm_share.mean, 100 * comm_share.max);
+    std::printf("  rebuild: halo %.2f ms, canonical order %.2f ms, list build %.2f ms (max over ranks)\n",
+                1e3 * halo_time.max, 1e3 * order_time.max, 1e3 * list_time.max);
+  }
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  debris::comm::Session mpi(&argc, &argv);
+  std::vector<int> sizes{32000, 256000};
+  int steps = 50;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string key = argv[i];
+    if (key == "--per-rank") {
+      sizes.clear();
+      std::stringstream ss(argv[i + 1]);
+      for (std::string item; std::getline(ss, item, ',');) sizes.push_back(std::atoi(item.c_str()));
+    } else if (key == "--steps") {
+      steps = std::atoi(argv[i + 1]);
+    }
+  }
+  for (const int n : sizes) run(n, steps);
+  return 0;
+}
