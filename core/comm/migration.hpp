@@ -33,7 +33,9 @@ struct ExchangeCount {
 
 /// Moves every particle of `p` (owned particles only: ghosts dropped first) that this rank does not own to
 /// its owner, with its rows when `rows` is given (rows->offset must have p.size() + 1 entries). Collective.
-/// Throws std::runtime_error naming the particle if one moved farther than the next rank.
+/// Throws std::runtime_error naming the particle if one moved farther than the next rank. Only the rank
+/// that finds it throws, and the others would wait for its messages: a caller that can meet it (a run that
+/// blew up) must stop every rank (comm::abort), as the health check will.
 ExchangeCount exchange(const Decomposition& d, const Box& box, Particles& p, PairRows* rows = nullptr);
 
 /// Start of a run where every rank holds all particles: keeps those this rank owns, in their order.
