@@ -1,6 +1,5 @@
 #include "core/block_sums.hpp"
 
-
 namespace debris {
 
 double* BlockPartials::reserve(std::size_t n) {

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <initializer_list>
 #include <cstring>
+#include <initializer_list>
 #include <stdexcept>
 
 #if defined(DEBRIS_MPI)
@@ -91,7 +91,6 @@ void abort(int status) {
 void allreduce_sum(std::int64_t* v, int n) { MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_INT64_T, MPI_SUM, kWorld); }
 void allreduce_max(double* v, int n) { MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_DOUBLE, MPI_MAX, kWorld); }
 void allreduce_min(double* v, int n) { MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_DOUBLE, MPI_MIN, kWorld); }
-void allreduce_max(std::int64_t* v, int n) { MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_INT64_T, MPI_MAX, kWorld); }
 
 void sendrecv(const std::vector<char>& out, int to, std::vector<char>& in, int from, int tag) {
   if (to < 0) to = MPI_PROC_NULL;
@@ -108,33 +107,6 @@ void sendrecv_sized(const char* out, std::size_t out_bytes, int to, char* in, st
                from < 0 ? MPI_PROC_NULL : from, tag, kWorld, MPI_STATUS_IGNORE);
 }
 
-std::vector<std::vector<char>> allgather(const std::vector<char>& mine) {
-  const int n = size();
-  int my_size = count_of(mine.size());
-  std::vector<int> sizes(static_cast<std::size_t>(n)), offsets(static_cast<std::size_t>(n));
-  MPI_Allgather(&my_size, 1, MPI_INT, sizes.data(), 1, MPI_INT, kWorld);
-  std::size_t total = 0;
-  for (int r = 0; r < n; ++r) {
-    offsets[static_cast<std::size_t>(r)] = count_of(total);
-    total += static_cast<std::size_t>(sizes[static_cast<std::size_t>(r)]);
-  }
-  std::vector<char> all(total);
-  MPI_Allgatherv(mine.data(), my_size, MPI_BYTE, all.data(), sizes.data(), offsets.data(), MPI_BYTE, kWorld);
-  std::vector<std::vector<char>> parts(static_cast<std::size_t>(n));
-  for (int r = 0; r < n; ++r) {
-    const auto* first = all.data() + offsets[static_cast<std::size_t>(r)];
-    parts[static_cast<std::size_t>(r)].assign(first, first + sizes[static_cast<std::size_t>(r)]);
-  }
-  return parts;
-}
-
-void broadcast(std::string& text, int root) {
-  std::int64_t n = static_cast<std::int64_t>(text.size());
-  MPI_Bcast(&n, 1, MPI_INT64_T, root, kWorld);
-  text.resize(static_cast<std::size_t>(n));
-  MPI_Bcast(text.data(), count_of(text.size()), MPI_CHAR, root, kWorld);
-}
-
 #else  // the one-rank stub of a serial build
 
 Session::Session(int*, char***) {}
@@ -147,7 +119,6 @@ void abort(int status) { std::exit(status); }
 void allreduce_sum(std::int64_t*, int) {}
 void allreduce_max(double*, int) {}
 void allreduce_min(double*, int) {}
-void allreduce_max(std::int64_t*, int) {}
 
 void sendrecv(const std::vector<char>& out, int to, std::vector<char>& in, int from, int) {
   if (to > 0 || from > 0) throw std::logic_error("comm: a serial build has rank 0 only");
@@ -162,9 +133,6 @@ void sendrecv_sized(const char* out, std::size_t out_bytes, int to, char* in, st
   if (to > 0 || from > 0) throw std::logic_error("comm: a serial build has rank 0 only");
   if (from == 0 && to == 0) std::memcpy(in, out, std::min(out_bytes, in_bytes));
 }
-
-std::vector<std::vector<char>> allgather(const std::vector<char>& mine) { return {mine}; }
-void broadcast(std::string&, int) {}
 
 #endif
 

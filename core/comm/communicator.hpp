@@ -53,19 +53,6 @@ void allreduce_sum(std::int64_t* v, int n);
 /// In-place maxima and minima over all ranks (exact in any order as well).
 void allreduce_max(double* v, int n);
 void allreduce_min(double* v, int n);
-void allreduce_max(std::int64_t* v, int n);
-inline double allreduce_max(double v) {
-  allreduce_max(&v, 1);
-  return v;
-}
-inline std::int64_t allreduce_max(std::int64_t v) {
-  allreduce_max(&v, 1);
-  return v;
-}
-inline std::int64_t allreduce_sum(std::int64_t v) {
-  allreduce_sum(&v, 1);
-  return v;
-}
 
 /// Sends `out` to rank `to` and receives what rank `from` sends to this rank with the same tag (sizes
 /// travel first, so the receiver need not know them). A rank of -1 means none (nothing is sent, or `in`
@@ -75,11 +62,5 @@ void sendrecv(const std::vector<char>& out, int to, std::vector<char>& in, int f
 /// The same when both sides know the sizes (a halo's forward(): fixed lists between rebuilds): one message
 /// each way, into `in_bytes` bytes at `in`.
 void sendrecv_sized(const char* out, std::size_t out_bytes, int to, char* in, std::size_t in_bytes, int from, int tag);
-
-/// Every rank's bytes, in rank order, on every rank: parts[r] is what rank r gave.
-std::vector<std::vector<char>> allgather(const std::vector<char>& mine);
-
-/// Rank `root`'s text on every rank.
-void broadcast(std::string& text, int root = 0);
 
 }  // namespace debris::comm

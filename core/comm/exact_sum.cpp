@@ -12,8 +12,7 @@ namespace debris::comm {
 ExactSum::ExactSum(const std::int64_t* words) {
   for (int k = 0; k < kExactWords; ++k) w_[k] = words[k];
   w_[kChunks] = w_[kChunks] != 0;
-  pending_ = std::int64_t{1} << 29;  // unknown: carry at the next chance
-  normalize();
+  normalize();  // the words' history is unknown: carry now
 }
 
 ExactSum& ExactSum::operator+=(const ExactSum& o) {
