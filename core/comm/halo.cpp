@@ -1,5 +1,6 @@
 #include "core/comm/halo.hpp"
 
+#include <array>
 #include <stdexcept>
 
 #include "core/comm/communicator.hpp"
@@ -8,9 +9,6 @@
 namespace debris::comm {
 
 namespace {
-const double* coordinate(const Particles& p, int axis) {
-  return axis == 0 ? p.x.data() : (axis == 1 ? p.y.data() : p.z.data());
-}
 // Tags of the swaps: axis and direction, so two messages between the same two ranks never meet.
 int tag_of(int axis, int dir) { return 100 + 2 * axis + (dir > 0 ? 1 : 0); }
 }  // namespace
@@ -36,7 +34,7 @@ void Halo::borders(const Decomposition& d, const Box& box, double width, Particl
       s.to = d.neighbour(box, a, dir);
       s.from = d.neighbour(box, a, -dir);
       s.tag = tag_of(a, dir);
-      const double* c = coordinate(p, a);
+      const double* c = position(p, a);
       if (s.to >= 0)
         for (std::size_t i = 0; i < scan; ++i)
           if (dir < 0 ? c[i] < lo + width : c[i] >= hi - width) s.send.push_back(static_cast<int>(i));
@@ -47,8 +45,7 @@ void Halo::borders(const Decomposition& d, const Box& box, double width, Particl
       if (dir > 0 && d.coord()[a] == d.grid()[a] - 1) wrap = -1;
 
       std::vector<char> out, in;
-      pack_value(static_cast<std::int64_t>(s.send.size()), out);
-      p.for_each_column([&](const char*, const auto& col) { pack_rows(col, s.send, out); });
+      pack_records(p, s.send, out);
       for (const int i : s.send) {
         auto sh = shift_of(static_cast<std::size_t>(i));
         sh[a] = static_cast<std::int8_t>(sh[a] + wrap);
@@ -59,9 +56,7 @@ void Halo::borders(const Decomposition& d, const Box& box, double width, Particl
       s.first = p.size();
       if (!in.empty()) {
         Unpacker u(in);
-        s.count = static_cast<std::size_t>(u.value<std::int64_t>());
-        p.resize(s.first + s.count);
-        p.for_each_column([&](const char*, auto& col) { u.rows(col, s.first, s.count); });
+        s.count = u.records(p).second;
         for (std::size_t k = 0; k < s.count; ++k) {
           std::array<std::int8_t, 3> sh{};
           for (auto& v : sh) v = u.value<std::int8_t>();
@@ -74,21 +69,30 @@ void Halo::borders(const Decomposition& d, const Box& box, double width, Particl
   }
 }
 
+namespace {
+// What forward() sends: x, v and omega.
+constexpr int kForwardFields = 9;
+std::array<exec::DeviceVector<double>*, kForwardFields> forwarded(Particles& p) {
+  return {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.wx, &p.wy, &p.wz};
+}
+}  // namespace
+
 void Halo::forward(Particles& p) const {
   if (p.size() != owned_ + shift_.size()) throw std::logic_error("Halo::forward: the particles changed since borders()");
-  constexpr int kFields = 9;  // x, v, omega
+  constexpr int kFields = kForwardFields;
+  const auto columns = forwarded(p);
   for (const Swap& s : swaps_) {
     // Sizes are fixed between rebuilds on both sides: one message each way, no size exchange.
     out_.resize(kFields * s.send.size());
     in_.resize(kFields * s.count);
     double* o = out_.data();
-    for (const auto* col : {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.wx, &p.wy, &p.wz})
+    for (const auto* col : columns)
       for (const int i : s.send) *o++ = (*col)[static_cast<std::size_t>(i)];
     sendrecv_sized(reinterpret_cast<const char*>(out_.data()), out_.size() * sizeof(double), s.to,
                    reinterpret_cast<char*>(in_.data()), in_.size() * sizeof(double), s.from, s.tag);
     const double* in = in_.data();
     const int* slot = ghost_index_.data() + (s.first - owned_);
-    for (auto* col : {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.wx, &p.wy, &p.wz})
+    for (auto* col : columns)
       for (std::size_t k = 0; k < s.count; ++k) (*col)[static_cast<std::size_t>(slot[k])] = *in++;
   }
 }
@@ -104,7 +108,7 @@ void Halo::permute(const std::vector<int>& order) {
 
 std::size_t Halo::forward_bytes() const {
   std::size_t n = 0;
-  for (const Swap& s : swaps_) n += s.send.size() * 9 * sizeof(double);
+  for (const Swap& s : swaps_) n += s.send.size() * kForwardFields * sizeof(double);
   return n;
 }
 

@@ -9,15 +9,11 @@
 namespace debris::comm {
 
 namespace {
-const double* coordinate(const Particles& p, int axis) {
-  return axis == 0 ? p.x.data() : (axis == 1 ? p.y.data() : p.z.data());
-}
 int tag_of(int axis, int dir) { return 200 + 2 * axis + (dir > 0 ? 1 : 0); }
 
 // Appends the particles `which` with their rows to a message.
 void pack_leavers(const Particles& p, const PairRows* rows, const std::vector<int>& which, std::vector<char>& out) {
-  pack_value(static_cast<std::int64_t>(which.size()), out);
-  p.for_each_column([&](const char*, const auto& col) { pack_rows(col, which, out); });
+  pack_records(p, which, out);
   if (!rows) return;
   for (const int i : which) {
     const auto k = static_cast<std::size_t>(i);
@@ -33,10 +29,7 @@ void pack_leavers(const Particles& p, const PairRows* rows, const std::vector<in
 std::size_t unpack_arrivals(const std::vector<char>& in, Particles& p, PairRows* rows) {
   if (in.empty()) return 0;
   Unpacker u(in);
-  const auto n = static_cast<std::size_t>(u.value<std::int64_t>());
-  const std::size_t first = p.size();
-  p.resize(first + n);
-  p.for_each_column([&](const char*, auto& col) { u.rows(col, first, n); });
+  const std::size_t n = u.records(p).second;
   if (rows) {
     for (std::size_t k = 0; k < n; ++k) {
       const auto count = static_cast<std::size_t>(u.value<std::int64_t>());
@@ -79,7 +72,7 @@ ExchangeCount exchange(const Decomposition& d, const Box& box, Particles& p, Pai
     const bool periodic = box.periodic(a);
     std::vector<int> to_below, to_above;
     std::vector<char> leaves(p.size(), 0);
-    const double* c = coordinate(p, a);
+    const double* c = position(p, a);
     for (std::size_t i = 0; i < p.size(); ++i) {
       const int k = d.index_along(box, a, c[i]);
       if (k == mine) continue;
@@ -103,7 +96,7 @@ ExchangeCount exchange(const Decomposition& d, const Box& box, Particles& p, Pai
       sendrecv(dir < 0 ? out_below : out_above, d.neighbour(box, a, dir), in, d.neighbour(box, a, -dir), tag_of(a, dir));
       const std::size_t before = p.size();
       count.received += unpack_arrivals(in, p, rows);
-      const double* arrived = coordinate(p, a);
+      const double* arrived = position(p, a);
       for (std::size_t i = before; i < p.size(); ++i)
         if (d.index_along(box, a, arrived[i]) != mine)
           throw std::runtime_error("particle " + std::to_string(p.id[i]) + " arrived on a rank that does not own it");

@@ -3,8 +3,10 @@
 // a byte buffer, and read back in the same order. Raw bytes, so a ghost or a migrated particle keeps its
 // owner's bits exactly.
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace debris::comm {
@@ -28,6 +30,20 @@ void pack_value(const T& v, std::vector<char>& buffer) {
   std::memcpy(buffer.data() + at, &v, sizeof(T));
 }
 
+/// The position column of `axis` (0, 1, 2: x, y, z) of a particle store (Particles).
+template <class Store>
+const double* position(const Store& p, int axis) {
+  return axis == 0 ? p.x.data() : (axis == 1 ? p.y.data() : p.z.data());
+}
+
+/// Appends whole particle records (every column of a store with for_each_column: Particles): their count,
+/// then column by column. What the halo sends at a rebuild and what migration sends; unpack_records reads it.
+template <class Store, class Index>
+void pack_records(const Store& p, const std::vector<Index>& rows, std::vector<char>& buffer) {
+  pack_value(static_cast<std::int64_t>(rows.size()), buffer);
+  p.for_each_column([&](const char*, const auto& col) { pack_rows(col, rows, buffer); });
+}
+
 /// Reads back what pack_* wrote, front to back.
 class Unpacker {
  public:
@@ -49,6 +65,15 @@ class Unpacker {
     return v;
   }
   bool done() const { return at_ == buffer_.size(); }
+  /// Appends the records pack_records wrote to `p`; returns the index of the first and their count.
+  template <class Store>
+  std::pair<std::size_t, std::size_t> records(Store& p) {
+    const auto n = static_cast<std::size_t>(value<std::int64_t>());
+    const std::size_t first = p.size();
+    p.resize(first + n);
+    p.for_each_column([&](const char*, auto& col) { rows(col, first, n); });
+    return {first, n};
+  }
 
  private:
   void need(std::size_t n) const {

@@ -26,6 +26,7 @@
 #include "core/lattice.hpp"
 #include "core/neighbor_list.hpp"
 #include "core/particles.hpp"
+#include "tests/mpi/rank_grids.hpp"
 #include "kernels/dem/cohesive_contact_half.hpp"
 #include "kernels/dem/cohesive_material.hpp"
 #include "kernels/dem/cohesive_pair_table.hpp"
@@ -33,6 +34,8 @@
 
 namespace debris::comm {
 namespace {
+
+using test::grids_for;
 
 // One system's pass state: a half list over the particles as stored, its history, pair table and scratch.
 struct Pass {
@@ -51,15 +54,6 @@ struct Pass {
   }
 };
 
-std::vector<std::array<int, 3>> grids_for(int n) {
-  switch (n) {
-    case 1: return {{1, 1, 1}};
-    case 2: return {{2, 1, 1}, {1, 2, 1}};
-    case 3: return {{3, 1, 1}, {1, 1, 3}};
-    case 4: return {{2, 2, 1}, {4, 1, 1}, {1, 2, 2}};
-    default: return {{n, 1, 1}};
-  }
-}
 
 TEST(DistributedForces, OwnedParticlesGetTheSerialBitsAtEveryStep) {
   // The host pass on host arrays: the distributed step on a device (its own packing, the full list) is the

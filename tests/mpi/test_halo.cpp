@@ -20,35 +20,34 @@
 #include "core/comm/decomposition.hpp"
 #include "core/comm/halo.hpp"
 #include "core/comm/migration.hpp"
+#include "core/comm/pack.hpp"
 #include "core/particles.hpp"
+#include "tests/mpi/rank_grids.hpp"
 
 namespace debris::comm {
 namespace {
 
+using test::grids_for;
+
+double axis_value(Vec3 v, int a) { return a == 0 ? v.x : (a == 1 ? v.y : v.z); }
+
 using Shift = std::array<std::int8_t, 3>;
 
-double coord(const Particles& p, int a, std::size_t i) { return a == 0 ? p.x[i] : (a == 1 ? p.y[i] : p.z[i]); }
-double axis_of(Vec3 v, int a) { return a == 0 ? v.x : (a == 1 ? v.y : v.z); }
+
+// The bits of every column of particle i, in column order.
+std::vector<std::uint64_t> column_bits(const Particles& p, std::size_t i) {
+  std::vector<std::uint64_t> bits;
+  p.for_each_column([&](const char*, const auto& col) {
+    std::uint64_t w = 0;
+    std::memcpy(&w, &col[i], sizeof(col[i]));
+    bits.push_back(w);
+  });
+  return bits;
+}
 
 // Every column of particle i of `a` has the bits of particle j of `b`.
 bool same_bits(const Particles& a, std::size_t i, const Particles& b, std::size_t j) {
-  bool same = true;
-  const auto cols_b = [&]() {
-    std::vector<std::vector<std::uint64_t>> v;
-    b.for_each_column([&](const char*, const auto& col) {
-      std::uint64_t w = 0;
-      std::memcpy(&w, &col[j], sizeof(col[j]));
-      v.push_back({w});
-    });
-    return v;
-  }();
-  std::size_t k = 0;
-  a.for_each_column([&](const char*, const auto& col) {
-    std::uint64_t w = 0;
-    std::memcpy(&w, &col[i], sizeof(col[i]));
-    same = same && w == cols_b[k++][0];
-  });
-  return same;
+  return column_bits(a, i) == column_bits(b, j);
 }
 
 // The whole system, the same on every rank: random particles, and particles exactly on every cut plane of
@@ -74,7 +73,7 @@ Particles make_system(const Box& box, const Decomposition& d, int n, unsigned se
   const Vec3 lo = box.lo(), len = box.length();
   for (int k = 0; k < n; ++k) add(lo.x + u(rng) * len.x, lo.y + u(rng) * len.y, lo.z + u(rng) * len.z);
   for (int a = 0; a < 3; ++a) {
-    std::vector<double> planes{axis_of(lo, a), std::nextafter(axis_of(box.hi(), a), axis_of(lo, a))};
+    std::vector<double> planes{axis_value(lo, a), std::nextafter(axis_value(box.hi(), a), axis_value(lo, a))};
     for (int i = 1; i < d.grid()[a]; ++i) planes.push_back(d.cut(box, a, i));
     for (const double c : planes)
       for (int k = 0; k < 6; ++k) {
@@ -105,7 +104,7 @@ std::set<std::pair<std::int64_t, Shift>> expected_ghosts(const Box& box, const D
             const bool cut = d.grid()[a] > 1;
             if (!cut || !box.periodic(a)) inside = s[a] == 0;
             if (!inside || !cut) continue;
-            const double c = coord(all, a, j) + s[a] * box.length(a);
+            const double c = position(all, a)[j] + s[a] * box.length(a);
             inside = c >= d.sub_lo(box, a) - w && c < d.sub_hi(box, a) + w;
           }
           if (!inside || (mine && sx == 0 && sy == 0 && sz == 0)) continue;
@@ -122,17 +121,6 @@ std::map<std::int64_t, std::size_t> index_by_id(const Particles& p) {
   return m;
 }
 
-// Grids tried at each rank count: cuts along one, two and three axes.
-std::vector<std::array<int, 3>> grids_for(int n) {
-  switch (n) {
-    case 1: return {{1, 1, 1}};
-    case 2: return {{2, 1, 1}, {1, 1, 2}};
-    case 3: return {{3, 1, 1}, {1, 3, 1}};
-    case 4: return {{2, 2, 1}, {4, 1, 1}, {1, 2, 2}};
-    case 8: return {{2, 2, 2}};
-    default: return {{n, 1, 1}};
-  }
-}
 
 // Periodic on all axes, on none, and on x and y with walls in z (the sheared junction's box).
 std::vector<std::array<bool, 3>> periodicities() { return {{true, true, true}, {false, false, false}, {true, true, false}}; }
@@ -226,7 +214,7 @@ void check_migration(const Box& box0, std::array<int, 3> g, int steps, bool stre
       const int c = static_cast<int>(rng() % static_cast<std::uint64_t>(d.grid()[a] + 1));
       double* q = a == 0 ? &all.x[j] : (a == 1 ? &all.y[j] : &all.z[j]);
       const double plane = d.cut(box, a, c) + (std::uniform_real_distribution<double>(-0.4, 0.4)(rng)) * w;
-      if (box.periodic(a) || (plane >= axis_of(box.lo(), a) && plane < axis_of(box.hi(), a))) *q = plane;
+      if (box.periodic(a) || (plane >= axis_value(box.lo(), a) && plane < axis_value(box.hi(), a))) *q = plane;
     }
     box.wrap(all);
   }
