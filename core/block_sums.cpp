@@ -1,5 +1,7 @@
 #include "core/block_sums.hpp"
 
+#include <vector>
+
 namespace debris {
 
 double* BlockPartials::reserve(std::size_t n) {
@@ -39,6 +41,14 @@ void ExactPartials::add_up(int blocks, int k, double* out) const {
     add_up_one(blocks, k, q, sum);
     out[q] = sum.value();
   }
+}
+
+void ExactPartials::add_up(int blocks, int k, double* out, bool across_ranks) const {
+  if (!across_ranks) return add_up(blocks, k, out);
+  std::vector<comm::ExactSum> sums(static_cast<std::size_t>(k));
+  add_up(blocks, k, sums.data());
+  comm::allreduce(sums.data(), k);
+  for (int q = 0; q < k; ++q) out[q] = sums[static_cast<std::size_t>(q)].value();
 }
 
 void ExactPartials::add_up_one(int blocks, int k, int q, comm::ExactSum& sum) const {

@@ -117,12 +117,24 @@ class ExactPartials {
     return t;
   }
   void add_up(int blocks, int k, double* out) const;
+  /// The same, summed over all ranks of the run first when `across_ranks` (comm::allreduce): a distributed
+  /// run's global sums, correctly rounded once.
+  void add_up(int blocks, int k, double* out, bool across_ranks) const;
   /// The same, kept exact (to add other ranks' sums before rounding: comm::allreduce).
   void add_up(int blocks, int k, comm::ExactSum* out) const;
 
  private:
   void add_up_one(int blocks, int k, int q, comm::ExactSum& sum) const;
   exec::DeviceVector<std::int64_t> v_;
+};
+
+/// Which stored particles a sum counts, and whether it adds every rank's sum. A run on one process counts
+/// every particle it stores (the default); a run cut among ranks (core/comm) stores its own particles and
+/// copies of its neighbours' (ghosts) side by side, counts its own (owned[i] != 0) and adds the ranks' exact
+/// sums, so every rank gets the whole system's sum, the same bits as one process.
+struct SumScope {
+  const unsigned char* owned = nullptr;  // per stored particle, nullptr: all (host array, or resident)
+  bool across_ranks = false;
 };
 
 DEBRIS_DECLARE_TARGET

@@ -1,5 +1,9 @@
 #include "core/groups.hpp"
 
+#include <cstdint>
+
+#include "core/comm/communicator.hpp"
+#include "core/comm/exact_sum.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/particles.hpp"
@@ -29,16 +33,23 @@ int Groups::find(const std::string& name) const {
   return -1;
 }
 
-void Groups::refresh_members(const Particles& p) {
-  for (auto& g : list) {
-    g.count = 0;
-    g.mass = 0.0;
-  }
+void Groups::refresh_members(const Particles& p, SumScope scope) {
+  // Exact sums (host side, at set-up): the group masses are the same bits on any order or rank count.
+  std::vector<std::int64_t> count(list.size(), 0);
+  std::vector<comm::ExactSum> mass(list.size());
   for (std::size_t i = 0; i < p.size(); ++i) {
     const int g = p.group[i];
-    if (g < 0) continue;
-    list[static_cast<std::size_t>(g)].count += 1;
-    list[static_cast<std::size_t>(g)].mass += p.mass[i];
+    if (g < 0 || (scope.owned && !scope.owned[i])) continue;
+    count[static_cast<std::size_t>(g)] += 1;
+    mass[static_cast<std::size_t>(g)].add(p.mass[i]);
+  }
+  if (scope.across_ranks && !list.empty()) {
+    comm::allreduce_sum(count.data(), static_cast<int>(count.size()));
+    comm::allreduce(mass.data(), static_cast<int>(mass.size()));
+  }
+  for (std::size_t g = 0; g < list.size(); ++g) {
+    list[g].count = static_cast<long>(count[g]);
+    list[g].mass = mass[g].value();
   }
 }
 
@@ -62,7 +73,7 @@ Groups::View Groups::view() {
 }
 
 void Groups::sum_by_group(const Particles& p, const double* a, const double* b, const double* c, const double* w,
-                          std::vector<Vec3>& out) {
+                          std::vector<Vec3>& out, SumScope scope) {
   const int n = static_cast<int>(p.size());
   const int ng = static_cast<int>(list.size());
   const int blocks = sum_blocks(n);
@@ -70,10 +81,11 @@ void Groups::sum_by_group(const Particles& p, const double* a, const double* b, 
   const std::size_t len = static_cast<std::size_t>(blocks) * static_cast<std::size_t>(k);
   std::int64_t* part = partials_.reserve(len);
   const int* group = p.group.data();
+  const unsigned char* owned = scope.owned;
   // One pass for all groups: each block adds its members' terms into its own exact accumulators (whichever
   // thread or device team runs it), then the host adds the blocks' accumulators as integers: the same bits
   // in any order.
-  DEBRIS_RESIDENT(part, group, a, b, c, w);
+  DEBRIS_RESIDENT(part, group, a, b, c, w, owned);
   DEBRIS_KERNEL
   for (int blk = 0; blk < blocks; ++blk) {
     std::int64_t* s = part + static_cast<std::size_t>(blk) * static_cast<std::size_t>(k) * comm::kExactWords;
@@ -81,7 +93,7 @@ void Groups::sum_by_group(const Particles& p, const double* a, const double* b, 
     const BlockRange r = block_range(blk, n);
     for (int i = r.begin; i < r.end; ++i) {
       const int g = group[i];
-      if (g < 0) continue;
+      if (g < 0 || (owned && !owned[i])) continue;  // a ghost: its owner counts it
       const double wi = w ? w[i] : 1.0;  // 1.0 * x is exact
       comm::exact_add(s + (3 * g) * comm::kExactWords, wi * a[i]);
       comm::exact_add(s + (3 * g + 1) * comm::kExactWords, wi * b[i]);
@@ -90,7 +102,7 @@ void Groups::sum_by_group(const Particles& p, const double* a, const double* b, 
   }
   partials_.to_host(len);
   sums_flat_.resize(static_cast<std::size_t>(k));
-  partials_.add_up(blocks, k, sums_flat_.data());
+  partials_.add_up(blocks, k, sums_flat_.data(), scope.across_ranks);
   out.resize(static_cast<std::size_t>(ng));
   for (int g = 0; g < ng; ++g) {
     const double* t = sums_flat_.data() + 3 * static_cast<std::size_t>(g);
@@ -98,13 +110,13 @@ void Groups::sum_by_group(const Particles& p, const double* a, const double* b, 
   }
 }
 
-void Groups::measure_reactions(const Particles& p) {
+void Groups::measure_reactions(const Particles& p, SumScope scope) {
   if (list.empty()) return;
-  sum_by_group(p, p.fx.data(), p.fy.data(), p.fz.data(), nullptr, sums_);
+  sum_by_group(p, p.fx.data(), p.fy.data(), p.fz.data(), nullptr, sums_, scope);
   for (std::size_t g = 0; g < list.size(); ++g) list[g].reaction = sums_[g];
 }
 
-void Groups::accumulate_displacements(const Particles& p, double dt) {
+void Groups::accumulate_displacements(const Particles& p, double dt, SumScope scope) {
   bool any_free = false;
   for (Group& gr : list) {
     if (gr.motion == GroupMotion::frozen || gr.mass <= 0.0) continue;
@@ -112,7 +124,7 @@ void Groups::accumulate_displacements(const Particles& p, double dt) {
     else gr.displacement += dt * gr.velocity;
   }
   if (!any_free) return;  // rigid groups only: no pass over the particles
-  sum_by_group(p, p.vx.data(), p.vy.data(), p.vz.data(), p.mass.data(), sums_);
+  sum_by_group(p, p.vx.data(), p.vy.data(), p.vz.data(), p.mass.data(), sums_, scope);
   for (std::size_t g = 0; g < list.size(); ++g) {
     Group& gr = list[g];
     if (gr.motion == GroupMotion::free && gr.mass > 0.0) gr.displacement += (dt / gr.mass) * sums_[g];

@@ -66,8 +66,9 @@ class Groups {
   int find(const std::string& name) const;
   std::size_t size() const { return list.size(); }
 
-  /// Recounts members and their mass (after particles were assigned or masses changed).
-  void refresh_members(const Particles& p);
+  /// Recounts members and their mass (after particles were assigned or masses changed). `scope`: the
+  /// particles counted and whether every rank's are added (core/block_sums.hpp); the same for the sums below.
+  void refresh_members(const Particles& p, SumScope scope = {});
 
   /// Kernel view: motion mode and rigid velocity per group, copied out of `list` before each pass.
   struct View {
@@ -77,15 +78,15 @@ class Groups {
   View view();
 
   /// Sums the current forces of each group's members into Group::reaction (fixed-order blocks).
-  void measure_reactions(const Particles& p);
+  void measure_reactions(const Particles& p, SumScope scope = {});
 
   /// Adds each group's centre-of-mass velocity times dt to its displacement (call after the drift).
-  void accumulate_displacements(const Particles& p, double dt);
+  void accumulate_displacements(const Particles& p, double dt, SumScope scope = {});
 
  private:
   /// Sums w[i] a[i] (b[i], c[i]) of each group's members into out[g], exactly; one pass for all groups.
   void sum_by_group(const Particles& p, const double* a, const double* b, const double* c, const double* w,
-                    std::vector<Vec3>& out);
+                    std::vector<Vec3>& out, SumScope scope);
 
   // The kernel view (copied to the device by view(): a few numbers per group) and the per-block partial
   // sums, [block][group][xyz] (core/block_sums: computed on the device, copied back by sum_by_group).

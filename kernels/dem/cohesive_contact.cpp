@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "core/block_sums.hpp"
+#include "core/comm/communicator.hpp"
 #include "core/contact_history.hpp"
 #include "core/exec.hpp"
 #include "core/neighbor_list.hpp"
@@ -58,8 +59,10 @@ void cohesive_contact_pass(const CohesiveCoefficients& c, const CohesiveOptions&
 
 CohesiveDiagnostics cohesive_diagnostics(const CohesiveCoefficients& c, const CohesiveOptions& opt,
                                          const BoxView& box, const Particles& p, const NeighborList& list,
-                                         const ContactHistory& history) {
+                                         const ContactHistory& history, SumScope scope) {
   const int n = list.rows();
+  const unsigned char* owned = scope.owned;
+  const std::int64_t* id = p.id.data();
   const int* offset = list.offset().data();
   const int* index = list.index().data();
   const double *x = p.x.data(), *y = p.y.data(), *z = p.z.data();
@@ -75,7 +78,7 @@ CohesiveDiagnostics cohesive_diagnostics(const CohesiveCoefficients& c, const Co
   const int blocks = sum_blocks(n);
   ExactPartials partials;
   std::int64_t* part = partials.reserve(2 * static_cast<std::size_t>(blocks));
-  DEBRIS_RESIDENT(part, offset, index, x, y, z, radius, mass, hx, hy, hz);
+  DEBRIS_RESIDENT(part, offset, index, x, y, z, radius, mass, hx, hy, hz, owned, id);
   DEBRIS_KERNEL
   for (int blk = 0; blk < blocks; ++blk) {
     std::int64_t* s = part + 2 * comm::kExactWords * static_cast<std::size_t>(blk);
@@ -84,6 +87,7 @@ CohesiveDiagnostics cohesive_diagnostics(const CohesiveCoefficients& c, const Co
     for (int i = r.begin; i < r.end; ++i) {
       for (int k = offset[i]; k < offset[i + 1]; ++k) {
         const int j = index[k];
+        if (owned && !owned[id[i] < id[j] ? i : j]) continue;  // counted on the rank of its lower-id end
         const Vec3 dx = minimum_image(b, Vec3{x[i] - x[j], y[i] - y[j], z[i] - z[j]});
         const CohesivePairParams pp = cohesive_pair_params(coef, radius[i], radius[j], mass[i], mass[j]);
         const double dn = norm(dx) - radius[i] - radius[j];
@@ -93,19 +97,22 @@ CohesiveDiagnostics cohesive_diagnostics(const CohesiveCoefficients& c, const Co
     }
   }
   partials.to_host(2 * static_cast<std::size_t>(blocks));
-  const auto sums = partials.add_up<2>(blocks);
+  double sums[2];
+  partials.add_up(blocks, 2, sums, scope.across_ranks);
   const double energy = sums[0], pairs = sums[1];
   double overlap = 0.0;
-  DEBRIS_RESIDENT(offset, index, x, y, z, radius);
+  DEBRIS_RESIDENT(offset, index, x, y, z, radius, owned);
   DEBRIS_KERNEL_MAX(overlap)
   for (int i = 0; i < n; ++i) {
     for (int k = offset[i]; k < offset[i + 1]; ++k) {
       const int j = index[k];
+      if (owned && !owned[i] && !owned[j]) continue;  // two ghosts: not this rank's pair
       const Vec3 dx = minimum_image(b, Vec3{x[i] - x[j], y[i] - y[j], z[i] - z[j]});
       const double ov = radius[i] + radius[j] - norm(dx);
       overlap = ov > overlap ? ov : overlap;
     }
   }
+  if (scope.across_ranks) comm::allreduce_max(&overlap, 1);
   CohesiveDiagnostics d;
   d.elastic_energy = energy;
   d.max_overlap = overlap;

@@ -87,25 +87,27 @@ void global_damping_pass(Particles& p, Groups::View groups, double c) {
   }
 }
 
-ParticleTotals particle_totals(const Particles& p) {
+ParticleTotals particle_totals(const Particles& p, SumScope scope) {
   const int n = static_cast<int>(p.size());
   const double *x = p.x.data(), *y = p.y.data(), *z = p.z.data();
   const double *vx = p.vx.data(), *vy = p.vy.data(), *vz = p.vz.data();
   const double *wx = p.wx.data(), *wy = p.wy.data(), *wz = p.wz.data();
   const double *mass = p.mass.data(), *inertia = p.inertia.data();
+  const unsigned char* owned = scope.owned;
   // Exact block sums (core/block_sums.hpp): the thermo table has the same bits on any thread count, storage
   // order or rank count.
   constexpr int K = 7;  // kinetic energy, momentum, angular momentum
   const int blocks = sum_blocks(n);
   ExactPartials partials;
   std::int64_t* part = partials.reserve(static_cast<std::size_t>(K) * static_cast<std::size_t>(blocks));
-  DEBRIS_RESIDENT(part, x, y, z, vx, vy, vz, wx, wy, wz, mass, inertia);
+  DEBRIS_RESIDENT(part, x, y, z, vx, vy, vz, wx, wy, wz, mass, inertia, owned);
   DEBRIS_KERNEL
   for (int b = 0; b < blocks; ++b) {
     std::int64_t* s = part + static_cast<std::size_t>(K) * comm::kExactWords * static_cast<std::size_t>(b);
     exact_zero(s, K);
     const BlockRange r = block_range(b, n);
     for (int i = r.begin; i < r.end; ++i) {
+      if (owned && !owned[i]) continue;  // a ghost: its owner counts it
       const double ke = 0.5 * mass[i] * (vx[i] * vx[i] + vy[i] * vy[i] + vz[i] * vz[i]) +
                         0.5 * inertia[i] * (wx[i] * wx[i] + wy[i] * wy[i] + wz[i] * wz[i]);
       const Vec3 l = mass[i] * cross(Vec3{x[i], y[i], z[i]}, Vec3{vx[i], vy[i], vz[i]});
@@ -120,7 +122,8 @@ ParticleTotals particle_totals(const Particles& p) {
     }
   }
   partials.to_host(static_cast<std::size_t>(K) * static_cast<std::size_t>(blocks));
-  const auto t = partials.add_up<K>(blocks);
+  double t[K];
+  partials.add_up(blocks, K, t, scope.across_ranks);
   return {t[0], {t[1], t[2], t[3]}, {t[4], t[5], t[6]}};
 }
 

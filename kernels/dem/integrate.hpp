@@ -28,7 +28,8 @@ struct ParticleTotals {
   Vec3 momentum;
   Vec3 angular_momentum;  // about the origin, from unwrapped-free positions (use without periodic axes)
 };
-ParticleTotals particle_totals(const Particles& p);
+/// `scope`: the particles counted, and whether every rank's are added (core/block_sums.hpp).
+ParticleTotals particle_totals(const Particles& p, SumScope scope = {});
 
 /// Kinetic energy with velocities synchronised to the positions, v + F dt / 2m (and w + T dt / 2I). The
 /// stored v of semi-implicit Euler lags x by half a step; this is the energy that velocity Verlet, the

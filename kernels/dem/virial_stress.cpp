@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 #include <stdexcept>
 
@@ -17,22 +18,28 @@ namespace {
 
 DEBRIS_DECLARE_TARGET
 
-// The share of row i in the sum: the pair forces of the row from copies of their histories (never advanced),
-// plus m v v when i is selected. A full list meets each pair from both ends, and half of r_ij (x) F_ij goes to
-// each selected end; a half list meets it once and credits the halves of both ends from here (r_ji (x) F_ji
-// = r_ij (x) F_ij). Takes the raw columns one by one (not in a struct) so that an offload build translates
-// each pointer.
-inline StressTensor particle_virial(int i, int half, const int* sel, const int* offset, const int* index, const double* x, const double* y,
-                                    const double* z, const double* vx, const double* vy, const double* vz,
-                                    const double* wx, const double* wy, const double* wz, const double* radius,
-                                    const double* mass, const double* hx, const double* hy, const double* hz,
-                                    const CohesiveCoefficients& coef, const CohesiveOptions& opt, const BoxView& b,
-                                    int kinetic) {
+// Adds the share of row i to the exact accumulators s (six, xx yy zz xy xz yz): the pair forces of the row
+// from copies of their histories (never advanced), plus m v v when i is selected. A full list meets each
+// pair from both ends, and half of r_ij (x) F_ij goes to each selected end; a half list meets it once and
+// credits the halves of both ends from here (r_ji (x) F_ji = r_ij (x) F_ij). Every pair term is added
+// exactly on its own (not summed per particle first), so the total does not depend on which rows hold a
+// pair: a run cut among ranks, where the two halves of a pair may be credited on two ranks, gets the same
+// bits (0.5 r F, rounded, is half of r F, rounded). Takes the raw columns one by one (not in a struct) so
+// that an offload build translates each pointer.
+inline void add_particle_virial(std::int64_t* s, int i, int half, const int* sel, const int* offset, const int* index,
+                                const double* x, const double* y, const double* z, const double* vx,
+                                const double* vy, const double* vz, const double* wx, const double* wy,
+                                const double* wz, const double* radius, const double* mass, const double* hx,
+                                const double* hy, const double* hz, const CohesiveCoefficients& coef,
+                                const CohesiveOptions& opt, const BoxView& b, int kinetic) {
   const Vec3 xi{x[i], y[i], z[i]}, vi{vx[i], vy[i], vz[i]}, wi{wx[i], wy[i], wz[i]};
   const double ri = radius[i], mi = mass[i];
   const double own = (sel == nullptr || sel[i]) ? 0.5 : 0.0;
-  StressTensor w;
-  if (!half && own == 0.0) return w;
+  auto add = [s](double xx, double yy, double zz, double xy, double xz, double yz) {
+    const double term[6] = {xx, yy, zz, xy, xz, yz};
+    for (int q = 0; q < 6; ++q) comm::exact_add(s + q * comm::kExactWords, -term[q]);
+  };
+  if (!half && own == 0.0) return;
   for (int k = offset[i]; k < offset[i + 1]; ++k) {
     const int j = index[k];
     const double share = half ? own + ((sel == nullptr || sel[j]) ? 0.5 : 0.0) : own;
@@ -42,22 +49,11 @@ inline StressTensor particle_virial(int i, int half, const int* sel, const int* 
     const CohesivePair pair{dx, ri, radius[j], pp.delta_f, pp.c_n, vi - Vec3{vx[j], vy[j], vz[j]}, wi,
                             Vec3{wx[j], wy[j], wz[j]}, Vec3{hx[k], hy[k], hz[k]}, i < j};
     const Vec3 f = cohesive_pair_force(coef, opt, pair, 0.0, 0).force;  // the history is not advanced
-    w.xx -= share * dx.x * f.x;
-    w.yy -= share * dx.y * f.y;
-    w.zz -= share * dx.z * f.z;
-    w.xy -= share * dx.x * f.y;
-    w.xz -= share * dx.x * f.z;
-    w.yz -= share * dx.y * f.z;
+    add(share * dx.x * f.x, share * dx.y * f.y, share * dx.z * f.z, share * dx.x * f.y, share * dx.x * f.z,
+        share * dx.y * f.z);
   }
-  if (kinetic && own > 0) {
-    w.xx -= mi * vi.x * vi.x;
-    w.yy -= mi * vi.y * vi.y;
-    w.zz -= mi * vi.z * vi.z;
-    w.xy -= mi * vi.x * vi.y;
-    w.xz -= mi * vi.x * vi.z;
-    w.yz -= mi * vi.y * vi.z;
-  }
-  return w;
+  if (kinetic && own > 0)
+    add(mi * vi.x * vi.x, mi * vi.y * vi.y, mi * vi.z * vi.z, mi * vi.x * vi.y, mi * vi.x * vi.z, mi * vi.y * vi.z);
 }
 
 DEBRIS_END_DECLARE_TARGET
@@ -66,7 +62,7 @@ DEBRIS_END_DECLARE_TARGET
 
 StressTensor virial_stress(const CohesiveCoefficients& c, const CohesiveOptions& opt, const BoxView& box,
                            const Particles& p, const NeighborList& list, const ContactHistory& history,
-                           const int* select, double volume, bool kinetic) {
+                           const int* select, double volume, bool kinetic, bool across_ranks) {
   if (static_cast<std::size_t>(list.rows()) != p.size() ||
       history.hx.size() != static_cast<std::size_t>(list.entries()))
     throw std::logic_error("virial_stress: the list and the history do not belong to these particles");
@@ -101,15 +97,13 @@ StressTensor virial_stress(const CohesiveCoefficients& c, const CohesiveOptions&
     std::int64_t* s = part + static_cast<std::size_t>(K) * comm::kExactWords * static_cast<std::size_t>(blk);
     exact_zero(s, K);
     const BlockRange r = block_range(blk, n);
-    for (int i = r.begin; i < r.end; ++i) {
-      const StressTensor w = particle_virial(i, half, sel, offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius,
-                                             mass, hx, hy, hz, coef, o, b, kin);
-      const double term[K] = {w.xx, w.yy, w.zz, w.xy, w.xz, w.yz};
-      for (int q = 0; q < K; ++q) comm::exact_add(s + q * comm::kExactWords, term[q]);
-    }
+    for (int i = r.begin; i < r.end; ++i)
+      add_particle_virial(s, i, half, sel, offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius, mass, hx, hy, hz,
+                          coef, o, b, kin);
   }
   partials.to_host(static_cast<std::size_t>(K) * static_cast<std::size_t>(blocks));
-  const auto s = partials.add_up<K>(blocks);
+  double s[K];
+  partials.add_up(blocks, K, s, across_ranks);
   return StressTensor{s[0] * inv, s[1] * inv, s[2] * inv, s[3] * inv, s[4] * inv, s[5] * inv};
 }
 

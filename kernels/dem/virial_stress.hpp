@@ -45,9 +45,11 @@ struct StressTensor {
 /// summed; the pair part of a selected i counts all its neighbours, selected or not. kinetic = false
 /// leaves out the m v v part. Throws std::logic_error when the history does not match the list and
 /// std::invalid_argument for volume <= 0. The sums are
-/// reductions over particles: the result depends on the thread count at round-off level only.
+/// exact (core/block_sums): the same bits for any thread count or storage order. `across_ranks`: every
+/// rank's sum is added (a run cut among ranks passes as `select` its owned particles, selected: each half
+/// of a pair is then counted on one rank, the one that owns its end).
 StressTensor virial_stress(const CohesiveCoefficients& c, const CohesiveOptions& opt, const BoxView& box,
                            const Particles& p, const NeighborList& list, const ContactHistory& history,
-                           const int* select, double volume, bool kinetic = true);
+                           const int* select, double volume, bool kinetic = true, bool across_ranks = false);
 
 }  // namespace debris
