@@ -1,5 +1,9 @@
 #include "core/contact_history.hpp"
 
+#include <algorithm>
+#include <stdexcept>
+
+#include "core/comm/migration.hpp"
 #include "core/exec.hpp"
 #include "core/neighbor_list.hpp"
 #include "core/particles.hpp"
@@ -73,6 +77,66 @@ void ContactHistory::remember(const Particles& p, const NeighborList& list) {
   old_hx_.swap(hx);
   old_hy_.swap(hy);
   old_hz_.swap(hz);
+}
+
+void ContactHistory::rows_seen_from(const Particles& p, const NeighborList& list, const unsigned char* keep,
+                                    comm::PairRows& rows) const {
+  if constexpr (exec::offload_build()) throw std::logic_error("ContactHistory::rows_seen_from: host builds only");
+  const int n = list.rows();
+  const int* offset = list.offset().data();
+  const int* index = list.index().data();
+  // Count, then fill: row of kept particle i = its own entries, then the entries that name it as partner.
+  std::vector<std::size_t> count(p.size(), 0);
+  for (int i = 0; i < n; ++i)
+    for (int k = offset[i]; k < offset[i + 1]; ++k) {
+      const int j = index[k];
+      if (keep[i]) ++count[static_cast<std::size_t>(i)];
+      if (keep[j]) ++count[static_cast<std::size_t>(j)];
+    }
+  std::vector<std::size_t> at(p.size(), 0);  // where each kept particle's row starts
+  rows.offset.assign(1, 0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!keep[i]) continue;
+    at[i] = rows.offset.back();
+    rows.offset.push_back(at[i] + count[i]);
+  }
+  const std::size_t total = rows.offset.back();
+  rows.partner.resize(total);
+  rows.value.resize(comm::PairRows::kValues * total);
+  auto put = [&](std::size_t owner, std::int64_t partner, double sign, int k) {
+    const std::size_t r = at[owner]++;
+    rows.partner[r] = partner;
+    rows.value[3 * r] = sign * hx[static_cast<std::size_t>(k)];
+    rows.value[3 * r + 1] = sign * hy[static_cast<std::size_t>(k)];
+    rows.value[3 * r + 2] = sign * hz[static_cast<std::size_t>(k)];
+  };
+  for (int i = 0; i < n; ++i)
+    for (int k = offset[i]; k < offset[i + 1]; ++k) {
+      const int j = index[k];
+      if (keep[i]) put(static_cast<std::size_t>(i), p.id[static_cast<std::size_t>(j)], 1.0, k);
+      if (keep[j]) put(static_cast<std::size_t>(j), p.id[static_cast<std::size_t>(i)], -1.0, k);  // seen from j
+    }
+}
+
+void ContactHistory::remember_rows(const Particles& p, const comm::PairRows& rows) {
+  if constexpr (exec::offload_build()) throw std::logic_error("ContactHistory::remember_rows: host builds only");
+  static_assert(comm::PairRows::kValues == 3, "the cohesive model's tangential spring: three doubles per pair");
+  const std::size_t n = rows.offset.size() - 1;
+  if (n > p.size()) throw std::logic_error("ContactHistory::remember_rows: more rows than particles");
+  old_offset_.resize(n + 1);
+  for (std::size_t i = 0; i <= n; ++i) old_offset_[i] = static_cast<int>(rows.offset[i]);
+  old_partner_.assign(rows.partner.begin(), rows.partner.end());
+  old_row_of_id_.assign(static_cast<std::size_t>(p.max_id() + 1), -1);
+  for (std::size_t i = 0; i < n; ++i) old_row_of_id_[static_cast<std::size_t>(p.id[i])] = static_cast<int>(i);
+  const std::size_t m = rows.partner.size();
+  old_hx_.resize(m);
+  old_hy_.resize(m);
+  old_hz_.resize(m);
+  for (std::size_t r = 0; r < m; ++r) {
+    old_hx_[r] = rows.value[3 * r];
+    old_hy_[r] = rows.value[3 * r + 1];
+    old_hz_[r] = rows.value[3 * r + 2];
+  }
 }
 
 void ContactHistory::carry_over(const Particles& p, const NeighborList& list) {

@@ -12,6 +12,9 @@ namespace debris {
 
 class Particles;
 class NeighborList;
+namespace comm {
+struct PairRows;
+}
 
 class ContactHistory {
  public:
@@ -25,6 +28,16 @@ class ContactHistory {
 
   /// After the rebuild: looks up each new entry (id_i, id_j) in the remembered rows and copies its state.
   void carry_over(const Particles& p, const NeighborList& list);
+
+  /// A run cut among ranks (core/comm): the state of every listed pair that has an end with keep[i] != 0,
+  /// seen from that end: one row per kept particle, in storage order, listing (partner id, state seen from
+  /// the particle). A pair of two kept particles is in both their rows (opposite signs), so each end can
+  /// take it to whichever rank will own it. Host copies.
+  void rows_seen_from(const Particles& p, const NeighborList& list, const unsigned char* keep,
+                      comm::PairRows& rows) const;
+  /// In place of remember(): the rows of the first rows.offset.size() - 1 particles of `p` (as
+  /// rows_seen_from() gave them, after migration). carry_over() then finds a pair in the row of either end.
+  void remember_rows(const Particles& p, const comm::PairRows& rows);
 
   /// Transfer points (offload builds): the state, device -> host (checkpoints, analysis) or host -> device.
   void to_host() const;

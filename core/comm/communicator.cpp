@@ -92,6 +92,18 @@ void allreduce_sum(std::int64_t* v, int n) { MPI_Allreduce(MPI_IN_PLACE, v, n, M
 void allreduce_max(double* v, int n) { MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_DOUBLE, MPI_MAX, kWorld); }
 void allreduce_min(double* v, int n) { MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_DOUBLE, MPI_MIN, kWorld); }
 
+std::string first_message(const std::string& mine) {
+  const int n = size();
+  int root = mine.empty() ? n : rank();
+  MPI_Allreduce(MPI_IN_PLACE, &root, 1, MPI_INT, MPI_MIN, kWorld);
+  if (root == n) return {};
+  std::int64_t length = static_cast<std::int64_t>(mine.size());
+  MPI_Bcast(&length, 1, MPI_INT64_T, root, kWorld);
+  std::string text = rank() == root ? mine : std::string(static_cast<std::size_t>(length), ' ');
+  MPI_Bcast(text.data(), count_of(text.size()), MPI_CHAR, root, kWorld);
+  return text;
+}
+
 void sendrecv(const std::vector<char>& out, int to, std::vector<char>& in, int from, int tag) {
   if (to < 0) to = MPI_PROC_NULL;
   if (from < 0) from = MPI_PROC_NULL;
@@ -119,6 +131,7 @@ void abort(int status) { std::exit(status); }
 void allreduce_sum(std::int64_t*, int) {}
 void allreduce_max(double*, int) {}
 void allreduce_min(double*, int) {}
+std::string first_message(const std::string& mine) { return mine; }
 
 void sendrecv(const std::vector<char>& out, int to, std::vector<char>& in, int from, int) {
   if (to > 0 || from > 0) throw std::logic_error("comm: a serial build has rank 0 only");

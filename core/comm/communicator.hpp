@@ -54,6 +54,11 @@ void allreduce_sum(std::int64_t* v, int n);
 void allreduce_max(double* v, int n);
 void allreduce_min(double* v, int n);
 
+/// The text of the lowest rank whose `mine` is not empty, on every rank (empty when none has one): an
+/// error that one rank found (an input error, a failed health check), reported the same by all so that all
+/// stop the same way. Collective.
+std::string first_message(const std::string& mine);
+
 /// Sends `out` to rank `to` and receives what rank `from` sends to this rank with the same tag (sizes
 /// travel first, so the receiver need not know them). A rank of -1 means none (nothing is sent, or `in`
 /// comes back empty); to == from == rank() copies `out` into `in`.
