@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
+#include "core/canonical_order.hpp"
+#include "core/comm/communicator.hpp"
+#include "core/comm/migration.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/pass_timer.hpp"
@@ -85,26 +89,47 @@ void DemSimulation::setup() {
   if (settings_.skin < 0.0) throw input_error("run.skin", format_value(settings_.skin), "must be >= 0");
   list_.set_max_size_classes(settings_.size_classes);
 
+  // Everything above saw the whole system, on every rank alike; from here a distributed run keeps its own.
+  distributed_ = settings_.distribute && comm::size() > 1;
+  n_total_ = static_cast<long long>(p_.size());
+  if (distributed_) distribute();
   rebuild_neighbors();
   refuse_coincident_particles();
   compute_forces(0);
 }
 
+void DemSimulation::distribute() {
+  if constexpr (exec::offload_build())
+    throw std::runtime_error("a run cut among MPI ranks runs on host threads so far: use a host build under mpirun");
+  if (!settings_.sort_by_cell)
+    throw std::logic_error("DemSimulation: a run cut among ranks stores its particles in the canonical order");
+  decomposition_ = comm::Decomposition::make(box_, comm::size(), comm::rank(), max_cutoff_ + skin_, settings_.rank_grid);
+  box_.wrap(p_);
+  comm::keep_owned(decomposition_, box_, p_);
+  owned_.assign(p_.size(), 1);
+}
+
 void DemSimulation::refuse_coincident_particles() const {
   // Two particles at one place (a repeated row of a data file) have no direction between them: eq 2's
-  // normal is 0 / 0. Found among the listed pairs (every pair closer than the cutoff is listed).
+  // normal is 0 / 0. Found among the listed pairs (every pair closer than the cutoff is listed); in a
+  // distributed run by the rank that holds the pair, and reported by all (the lowest such rank's message).
   particles_to_host();
   pairs_to_host();
   const BoxView b = box_.view();
-  for (int i = 0; i < list_.rows(); ++i)
+  std::string found;
+  for (int i = 0; i < list_.rows() && found.empty(); ++i)
     for (int k = list_.offset()[i]; k < list_.offset()[i + 1]; ++k) {
       const std::size_t a = static_cast<std::size_t>(i), c = static_cast<std::size_t>(list_.index()[k]);
       const Vec3 d = minimum_image(b, Vec3{p_.x[a] - p_.x[c], p_.y[a] - p_.y[c], p_.z[a] - p_.z[c]});
       if (norm(d) > 1e-6 * std::min(p_.radius[a], p_.radius[c])) continue;
-      throw input_error("particles", "particles id " + std::to_string(p_.id[a]) + " and id " + std::to_string(p_.id[c]),
-                        "both sit at (" + format_value(p_.x[a]) + ", " + format_value(p_.y[a]) + ", " +
-                            format_value(p_.z[a]) + "): a repeated particle (a duplicated row of the data file?)");
+      found = input_error("particles", "particles id " + std::to_string(p_.id[a]) + " and id " + std::to_string(p_.id[c]),
+                          "both sit at (" + format_value(p_.x[a]) + ", " + format_value(p_.y[a]) + ", " +
+                              format_value(p_.z[a]) + "): a repeated particle (a duplicated row of the data file?)")
+                  .what();
+      break;
     }
+  if (distributed_) found = comm::first_message(found);
+  if (!found.empty()) throw InputError(found);
 }
 
 void DemSimulation::check_global_damping(double fraction, const std::string& key) const {
@@ -112,7 +137,8 @@ void DemSimulation::check_global_damping(double fraction, const std::string& key
     throw input_error(key, format_value(fraction), "must be a fraction >= 0 of the critical damping c_c (eq 21)");
   if (fraction == 0.0) return;
   particles_to_host();  // the masses
-  const double m_min = *std::min_element(p_.mass.begin(), p_.mass.end());
+  double m_min = p_.size() ? *std::min_element(p_.mass.begin(), p_.mass.end()) : HUGE_VAL;
+  if (distributed_) comm::allreduce_min(&m_min, 1);  // every rank decides alike
   const double bound = m_min / (limits_.c_c * dt_);
   if (!(fraction < bound))
     throw input_error(key, format_value(fraction),
@@ -137,6 +163,10 @@ void DemSimulation::reorder(const std::vector<int>& order) {
 }
 
 void DemSimulation::rebuild(const std::vector<int>* order) {
+  if (distributed_) {
+    if (order) throw std::logic_error("DemSimulation::reorder: a run cut among ranks keeps the canonical order");
+    return rebuild_distributed();
+  }
   const PassTimer timer(times_.neighbours);
   particles_to_device();
   // Offload builds: wrap, re-sort (a gather per column), neighbour search and history carry-over run on the
@@ -160,6 +190,45 @@ void DemSimulation::rebuild(const std::vector<int>* order) {
                pass_ == PairPass::half ? NeighborKind::half : NeighborKind::full);
   history_.carry_over(p_, list_);
   device_changed(particles_and_pairs_changed);
+  if (pass_ == PairPass::half) index_half_pass();
+  ++times_.rebuilds;
+}
+
+void DemSimulation::rebuild_distributed() {
+  {
+    const PassTimer timer(times_.comm);
+    // The pair state seen from each owned particle travels with it; the ghosts go (their owners send them
+    // again). Owned particles keep their order until the canonical sort below.
+    comm::PairRows rows;
+    if (list_.rows() > 0) history_.rows_seen_from(p_, list_, owned_.data(), rows);
+    std::vector<char> ghost(p_.size());
+    for (std::size_t i = 0; i < p_.size(); ++i) ghost[i] = owned_[i] ? 0 : 1;
+    p_.remove_if(ghost);
+    if (rows.offset.size() != p_.size() + 1) rows.offset.assign(p_.size() + 1, 0);
+    box_.wrap(p_);
+    try {
+      times_.migrated += static_cast<long>(comm::exchange(decomposition_, box_, p_, &rows).sent);
+    } catch (const std::runtime_error& e) {
+      // A particle flew past the next rank: the run has blown up, and only this rank knows (core/comm/migration).
+      std::fprintf(stderr, "error (rank %d): %s; is the time step stable?\n", comm::rank(), e.what());
+      comm::abort(kExitUnfinished);
+    }
+    history_.remember_rows(p_, rows);
+    const std::size_t owned = p_.size();
+    halo_.borders(decomposition_, box_, max_cutoff_ + skin_, p_, owned);
+    // Owned particles and ghosts together in the order one process would store the whole system in.
+    const std::vector<int> order =
+        canonical_order(CanonicalGrid::of(box_.view(), n_total_, max_cutoff_ + skin_), p_);
+    p_.permute(order);
+    halo_.permute(order);
+    owned_.resize(p_.size());
+    for (std::size_t i = 0; i < p_.size(); ++i) owned_[i] = order[i] < static_cast<int>(owned) ? 1 : 0;
+    ++layout_generation_;
+  }
+  const PassTimer timer(times_.neighbours);
+  list_.build(box_.view(), p_, CohesiveCutoff{coef_}, max_cutoff_, skin_,
+              pass_ == PairPass::half ? NeighborKind::half : NeighborKind::full);
+  history_.carry_over(p_, list_);
   if (pass_ == PairPass::half) index_half_pass();
   ++times_.rebuilds;
 }
@@ -196,7 +265,7 @@ void DemSimulation::compute_forces(int update_history) {
     device_changed(update_history != 0 ? particles_and_pairs_changed : particles_changed);
   }
   const PassTimer timer(times_.other);
-  groups_.measure_reactions(p_);
+  groups_.measure_reactions(p_, sum_scope());
   global_damping_pass(p_, groups_.view(), damping_);
 }
 
@@ -220,14 +289,26 @@ void DemSimulation::step() {
     kick_rigid_groups(groups_, dt_);
     integrate_semi_implicit_euler(p_, groups_.view(), dt_);
     device_changed(particles_changed);
-    groups_.accumulate_displacements(p_, dt_);
+    groups_.accumulate_displacements(p_, dt_, sum_scope());
     ++step_;
     time_ += dt_;
+  }
+  if (distributed_) {
+    // The ghosts take their owners' new x, v, omega (the drift moved them with partial forces) before
+    // anything reads them, the rebuild test included.
+    const PassTimer timer(times_.comm);
+    halo_.forward(p_);
   }
   bool rebuild = false;
   {
     const PassTimer timer(times_.neighbours);
     rebuild = list_.needs_rebuild(box_.view(), p_);
+  }
+  if (distributed_) {
+    const PassTimer timer(times_.comm);
+    double any = rebuild ? 1.0 : 0.0;  // every rank rebuilds when one must
+    comm::allreduce_max(&any, 1);
+    rebuild = any > 0.0;
   }
   if (rebuild) rebuild_neighbors();  // drifted past skin / 2
   compute_forces(1);                 // contact (eqs 2-5), group reactions, global damping
@@ -239,12 +320,24 @@ void DemSimulation::run(long steps) {
 
 CohesiveDiagnostics DemSimulation::diagnostics() const {
   particles_to_device();
-  return cohesive_diagnostics(coef_, settings_.options, box_.view(), p_, list_, history_);
+  return cohesive_diagnostics(coef_, settings_.options, box_.view(), p_, list_, history_, sum_scope());
+}
+
+ParticleTotals DemSimulation::totals() const {
+  particles_to_device();
+  return particle_totals(p_, sum_scope());
 }
 
 StressTensor DemSimulation::virial_stress(const int* select, double volume, bool kinetic) const {
   particles_to_device();
-  return debris::virial_stress(coef_, settings_.options, box_.view(), p_, list_, history_, select, volume, kinetic);
+  if (!distributed_)
+    return debris::virial_stress(coef_, settings_.options, box_.view(), p_, list_, history_, select, volume, kinetic);
+  // Cut among ranks: each rank counts the selected particles it owns (so each half of a pair once, on the
+  // rank of its end; 2 x (r F / 2) is r F exactly) and every rank gets the sum.
+  std::vector<int> mine(p_.size());
+  for (std::size_t i = 0; i < p_.size(); ++i) mine[i] = owned_[i] && (!select || select[i]) ? 1 : 0;
+  return debris::virial_stress(coef_, settings_.options, box_.view(), p_, list_, history_, mine.data(), volume,
+                               kinetic, true);
 }
 
 std::string DemSimulation::health_check(double overlap_limit) const {
@@ -252,6 +345,16 @@ std::string DemSimulation::health_check(double overlap_limit) const {
 }
 
 std::string DemSimulation::health_check(const CohesiveDiagnostics& diag, double overlap_limit) const {
+  if (!distributed_) return local_health_check(diag, overlap_limit);
+  // The rank that finds a fault reports it (the lowest, when several do), and every rank gets its message.
+  return comm::first_message(local_health_check(diag, overlap_limit));
+}
+
+std::string DemSimulation::local_health_check(const CohesiveDiagnostics& diag, double overlap_limit) const {
+  particles_to_host();  // the radii (a re-sort leaves the host's copies stale)
+  // A rank may hold no particle at all (a sparse system cut among many ranks).
+  double r_min = p_.size() ? *std::min_element(p_.radius.begin(), p_.radius.end()) : HUGE_VAL;
+  if (distributed_) comm::allreduce_min(&r_min, 1);  // collective: before any rank returns
   particles_to_device();
   const long bad = first_non_finite(p_);
   if (bad >= 0) {
@@ -263,8 +366,6 @@ std::string DemSimulation::health_check(const CohesiveDiagnostics& diag, double 
        << (step_ == 0 ? ": the set-up itself is not finite" : "; is the time step stable?");
     return os.str();
   }
-  particles_to_host();  // the radii (a re-sort leaves the host's copies stale)
-  const double r_min = *std::min_element(p_.radius.begin(), p_.radius.end());
   if (diag.max_overlap <= overlap_limit * r_min) return {};
   // Rare: find the pair by a plain scan, on the host.
   particles_to_host();
@@ -297,7 +398,7 @@ std::string DemSimulation::summary() const {
   const CohesivePairParams pp = cohesive_pair_params(coef_, p_.radius[i], p_.radius[i], p_.mass[i], p_.mass[i]);
   std::ostringstream os;
   os << std::setprecision(6);
-  os << "particles " << p_.size() << ", groups " << groups_.size() << "\n"
+  os << "particles " << particle_count() << ", groups " << groups_.size() << "\n"
      << "material: d_min = " << settings_.material.minimum_diameter()
      << " (eq 19), d_c = " << settings_.material.critical_diameter() << " (eq 18)\n"
      << "smallest pair (d = " << 2 * p_.radius[i] << "): k_N = " << pp.k_n << ", k_T = " << pp.k_t

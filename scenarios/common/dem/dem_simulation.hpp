@@ -13,11 +13,24 @@
 // back what a step changed (to_host), once per change; the non-const particles() also marks the host copy
 // as edited, so the next step, rebuild or force evaluation sends it to the device first (to_device).
 // Checkpoints, health-check messages and summary() go through the same two points.
+//
+// Cut among ranks (core/comm, shared/design/scale-mpi.md; host builds): when the job has several MPI ranks,
+// each rank reads the whole input, checks it and sets up the global limits (dt, skin, cutoff) exactly as one
+// process would, then keeps the particles it owns. It stores them together with ghosts (copies of the
+// neighbouring ranks' particles within max cutoff + skin) in the canonical order (core/canonical_order),
+// so every per-particle sum of the contact pass adds the serial run's terms in the serial run's order, and
+// the global sums (group reactions, thermo) are exact (core/block_sums' SumScope): the same bits as one
+// process on any rank count. The step gains a comm pass: forward() of the ghosts' x, v, omega after the
+// drift, or at a rebuild (decided by all ranks together) migration of owned particles with their pair
+// history and a new ghost layer.
+#include <array>
 #include <chrono>
 #include <functional>
 #include <string>
 
 #include "core/box.hpp"
+#include "core/comm/decomposition.hpp"
+#include "core/comm/halo.hpp"
 #include "core/contact_history.hpp"
 #include "core/exec.hpp"
 #include "core/cell_list.hpp"
@@ -28,6 +41,7 @@
 #include "kernels/dem/cohesive_contact_half.hpp"
 #include "kernels/dem/cohesive_pair_table.hpp"
 #include "kernels/dem/cohesive_material.hpp"
+#include "kernels/dem/integrate.hpp"
 #include "kernels/dem/virial_stress.hpp"
 
 namespace debris {
@@ -53,12 +67,19 @@ struct DemSettings {
   int size_classes = SizeClasses::kMax;   // neighbour search: at most this many size classes (1: one grid)
   bool masses_from_density = true;        // set m = rho 4/3 pi r^3 at set-up (false: keep the given masses)
   PairPass pair_pass = PairPass::automatic;  // automatic: half on host builds, full in offload builds
+  // A job of several MPI ranks cuts the box among them, on this grid of Px x Py x Pz subdomains (0s: the
+  // grid with the least cut surface). distribute = false runs the whole system on every rank instead
+  // (each alone: a reference for the distributed run).
+  bool distribute = true;
+  std::array<int, 3> rank_grid{0, 0, 0};
 };
 
 /// Accumulated wall time per pass.
 struct PassTimes {
   double neighbours = 0, contact = 0, integration = 0, other = 0;
+  double comm = 0;    // runs cut among ranks: forward(), migration, the halo at rebuilds, global decisions
   long rebuilds = 0;
+  long migrated = 0;  // particles this rank sent to another at rebuilds
 };
 
 class DemSimulation {
@@ -75,9 +96,10 @@ class DemSimulation {
   // State.
   const Box& box() const { return box_; }
   Box& box() { return box_; }
-  /// The number of particles, without a transfer (the progress line asks every step).
-  std::size_t particle_count() const { return p_.size(); }
-  /// The host copy, current (offload builds: copied back from the device if a step changed it).
+  /// The number of particles of the whole system, without a transfer (the progress line asks every step).
+  std::size_t particle_count() const { return distributed_ ? static_cast<std::size_t>(n_total_) : p_.size(); }
+  /// The host copy, current (offload builds: copied back from the device if a step changed it). Distributed
+  /// runs: this rank's owned particles and ghosts, in the canonical order (owned_mask() tells them apart).
   const Particles& particles() const {
     particles_to_host();
     return p_;
@@ -114,6 +136,18 @@ class DemSimulation {
   /// Counts the changes of storage order (a re-sort by cell at a rebuild, reorder()): an index into the
   /// columns means the same particle only while this stays the same (the Python module's views check it).
   long layout_generation() const { return layout_generation_; }
+
+  // Runs cut among ranks.
+  /// True when the run is cut among ranks (several MPI ranks and settings.distribute).
+  bool distributed() const { return distributed_; }
+  const comm::Decomposition& decomposition() const { return decomposition_; }
+  const comm::Halo& halo() const { return halo_; }
+  /// Per stored particle: 1 when this rank owns it, 0 for a ghost (distributed runs; empty otherwise).
+  const std::vector<unsigned char>& owned_mask() const { return owned_; }
+  /// Which stored particles a global sum counts, over which ranks (core/block_sums.hpp).
+  SumScope sum_scope() const { return distributed_ ? SumScope{owned_.data(), true} : SumScope{}; }
+  /// Kinetic energy, momentum and angular momentum of the whole system (every rank gets the same bits).
+  ParticleTotals totals() const;
 
   /// Forces a neighbour rebuild (with re-sort and history carry-over) now, as if particles had drifted.
   void rebuild_neighbors();
@@ -174,8 +208,11 @@ class DemSimulation {
   /// from_checkpoint() once the file is known to be a checkpoint of a format this version reads.
   static DemSimulation restore(const h5::File& f, std::string* input_echo);
   void compute_forces(int update_history);
+  std::string local_health_check(const CohesiveDiagnostics& d, double overlap_limit) const;  // this rank's
   void refuse_coincident_particles() const;
   void rebuild(const std::vector<int>* order);
+  void rebuild_distributed();  // rebuild() of a run cut among ranks: migration, halo, canonical order
+  void distribute();           // set-up of a run cut among ranks: the decomposition, keep the owned
   void index_half_pass();  // pair table and pass scratch of the half-list pass, after a build
   // Residency (offload builds; empty in host builds). The host copies of the particles, and of the list and
   // history, are current when the flags say so; host_edited_ says the device copy of the particles is not.
@@ -226,6 +263,11 @@ class DemSimulation {
   double time_ = 0;
   long layout_generation_ = 0;
   PassTimes times_;
+  bool distributed_ = false;
+  comm::Decomposition decomposition_;
+  comm::Halo halo_;
+  std::vector<unsigned char> owned_;
+  long long n_total_ = 0;
   mutable bool particles_on_host_ = true, pairs_on_host_ = true, host_edited_ = true;
 };
 
