@@ -104,6 +104,31 @@ std::string first_message(const std::string& mine) {
   return text;
 }
 
+std::vector<std::vector<char>> gather_to_root(const std::vector<char>& mine) {
+  const int n = size(), me = rank();
+  std::int64_t bytes = static_cast<std::int64_t>(mine.size());
+  std::vector<std::int64_t> sizes(me == 0 ? static_cast<std::size_t>(n) : 0);
+  MPI_Gather(&bytes, 1, MPI_INT64_T, sizes.data(), 1, MPI_INT64_T, 0, kWorld);
+  std::vector<int> counts, displs;
+  std::vector<char> all;
+  if (me == 0) {
+    std::size_t total = 0;
+    for (const std::int64_t b : sizes) {
+      counts.push_back(count_of(static_cast<std::size_t>(b)));
+      displs.push_back(count_of(total));
+      total += static_cast<std::size_t>(b);
+    }
+    all.resize(total);
+  }
+  MPI_Gatherv(mine.data(), count_of(mine.size()), MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE, 0,
+              kWorld);
+  std::vector<std::vector<char>> out;
+  for (int r = 0; me == 0 && r < n; ++r)
+    out.emplace_back(all.begin() + displs[static_cast<std::size_t>(r)],
+                     all.begin() + displs[static_cast<std::size_t>(r)] + counts[static_cast<std::size_t>(r)]);
+  return out;
+}
+
 void sendrecv(const std::vector<char>& out, int to, std::vector<char>& in, int from, int tag) {
   if (to < 0) to = MPI_PROC_NULL;
   if (from < 0) from = MPI_PROC_NULL;
@@ -132,6 +157,7 @@ void allreduce_sum(std::int64_t*, int) {}
 void allreduce_max(double*, int) {}
 void allreduce_min(double*, int) {}
 std::string first_message(const std::string& mine) { return mine; }
+std::vector<std::vector<char>> gather_to_root(const std::vector<char>& mine) { return {mine}; }
 
 void sendrecv(const std::vector<char>& out, int to, std::vector<char>& in, int from, int) {
   if (to > 0 || from > 0) throw std::logic_error("comm: a serial build has rank 0 only");

@@ -14,6 +14,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "core/comm/communicator.hpp"
 #include "core/error.hpp"
 #include "core/io/hdf5_file.hpp"
 #include "scenarios/common/run/checkpoint_file.hpp"
@@ -170,7 +171,7 @@ void DemSimulation::write_checkpoint(const std::string& path, const std::string&
 }
 
 DemSimulation DemSimulation::from_checkpoint(const std::string& path, std::string* input_echo,
-                                             const std::function<void(const h5::File&)>& extra) {
+                                             const std::function<void(const h5::File&)>& extra, RestartRanks ranks) {
   return read_checkpoint_file(path, "debris_dem", [&] {
     h5::File f(path, h5::File::Mode::read_only);
     check_checkpoint(f.has_attribute("format_version"), path, "it is not a debris_dem checkpoint (no format_version)");
@@ -188,6 +189,7 @@ DemSimulation DemSimulation::from_checkpoint(const std::string& path, std::strin
     check_checkpoint(f.has("particles"), path, "it is not a debris_dem checkpoint (no particles)");
     DemSimulation sim = restore(f, input_echo);
     if (extra) extra(f);
+    if (ranks.distribute && comm::size() > 1) sim.distribute_restored(ranks.rank_grid);
     return sim;
   });
 }

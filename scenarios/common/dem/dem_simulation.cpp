@@ -2,14 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
-#include "core/canonical_order.hpp"
 #include "core/comm/communicator.hpp"
-#include "core/comm/migration.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/pass_timer.hpp"
@@ -98,17 +95,6 @@ void DemSimulation::setup() {
   compute_forces(0);
 }
 
-void DemSimulation::distribute() {
-  if constexpr (exec::offload_build())
-    throw std::runtime_error("a run cut among MPI ranks runs on host threads so far: use a host build under mpirun");
-  if (!settings_.sort_by_cell)
-    throw std::logic_error("DemSimulation: a run cut among ranks stores its particles in the canonical order");
-  decomposition_ = comm::Decomposition::make(box_, comm::size(), comm::rank(), max_cutoff_ + skin_, settings_.rank_grid);
-  box_.wrap(p_);
-  comm::keep_owned(decomposition_, box_, p_);
-  owned_.assign(p_.size(), 1);
-}
-
 void DemSimulation::refuse_coincident_particles() const {
   // Two particles at one place (a repeated row of a data file) have no direction between them: eq 2's
   // normal is 0 / 0. Found among the listed pairs (every pair closer than the cutoff is listed); in a
@@ -190,45 +176,6 @@ void DemSimulation::rebuild(const std::vector<int>* order) {
                pass_ == PairPass::half ? NeighborKind::half : NeighborKind::full);
   history_.carry_over(p_, list_);
   device_changed(particles_and_pairs_changed);
-  if (pass_ == PairPass::half) index_half_pass();
-  ++times_.rebuilds;
-}
-
-void DemSimulation::rebuild_distributed() {
-  {
-    const PassTimer timer(times_.comm);
-    // The pair state seen from each owned particle travels with it; the ghosts go (their owners send them
-    // again). Owned particles keep their order until the canonical sort below.
-    comm::PairRows rows;
-    if (list_.rows() > 0) history_.rows_seen_from(p_, list_, owned_.data(), rows);
-    std::vector<char> ghost(p_.size());
-    for (std::size_t i = 0; i < p_.size(); ++i) ghost[i] = owned_[i] ? 0 : 1;
-    p_.remove_if(ghost);
-    if (rows.offset.size() != p_.size() + 1) rows.offset.assign(p_.size() + 1, 0);
-    box_.wrap(p_);
-    try {
-      times_.migrated += static_cast<long>(comm::exchange(decomposition_, box_, p_, &rows).sent);
-    } catch (const std::runtime_error& e) {
-      // A particle flew past the next rank: the run has blown up, and only this rank knows (core/comm/migration).
-      std::fprintf(stderr, "error (rank %d): %s; is the time step stable?\n", comm::rank(), e.what());
-      comm::abort(kExitUnfinished);
-    }
-    history_.remember_rows(p_, rows);
-    const std::size_t owned = p_.size();
-    halo_.borders(decomposition_, box_, max_cutoff_ + skin_, p_, owned);
-    // Owned particles and ghosts together in the order one process would store the whole system in.
-    const std::vector<int> order =
-        canonical_order(CanonicalGrid::of(box_.view(), n_total_, max_cutoff_ + skin_), p_);
-    p_.permute(order);
-    halo_.permute(order);
-    owned_.resize(p_.size());
-    for (std::size_t i = 0; i < p_.size(); ++i) owned_[i] = order[i] < static_cast<int>(owned) ? 1 : 0;
-    ++layout_generation_;
-  }
-  const PassTimer timer(times_.neighbours);
-  list_.build(box_.view(), p_, CohesiveCutoff{coef_}, max_cutoff_, skin_,
-              pass_ == PairPass::half ? NeighborKind::half : NeighborKind::full);
-  history_.carry_over(p_, list_);
   if (pass_ == PairPass::half) index_half_pass();
   ++times_.rebuilds;
 }

@@ -29,6 +29,7 @@
 #include <string>
 
 #include "core/box.hpp"
+#include "core/canonical_order.hpp"
 #include "core/comm/decomposition.hpp"
 #include "core/comm/halo.hpp"
 #include "core/contact_history.hpp"
@@ -70,6 +71,13 @@ struct DemSettings {
   // A job of several MPI ranks cuts the box among them, on this grid of Px x Py x Pz subdomains (0s: the
   // grid with the least cut surface). distribute = false runs the whole system on every rank instead
   // (each alone: a reference for the distributed run).
+  bool distribute = true;
+  std::array<int, 3> rank_grid{0, 0, 0};
+};
+
+/// How a restart on several MPI ranks cuts the system (DemSettings::distribute and rank_grid, which a
+/// checkpoint does not keep: the restart decides).
+struct RestartRanks {
   bool distribute = true;
   std::array<int, 3> rank_grid{0, 0, 0};
 };
@@ -148,6 +156,11 @@ class DemSimulation {
   SumScope sum_scope() const { return distributed_ ? SumScope{owned_.data(), true} : SumScope{}; }
   /// Kinetic energy, momentum and angular momentum of the whole system (every rank gets the same bits).
   ParticleTotals totals() const;
+  /// Calls `use` with the whole system as one process running it would hold it at this step (particles in
+  /// its storage order, the neighbour list as built, the contact history, groups, clock): this simulation
+  /// itself on one process; cut among ranks, an image gathered on rank 0, and the other ranks do not call
+  /// `use` (collective). What frames, checkpoints and the wear analysis read.
+  void with_whole_system(const std::function<void(const DemSimulation&)>& use) const;
 
   /// Forces a neighbour rebuild (with re-sort and history carry-over) now, as if particles had drifted.
   void rebuild_neighbors();
@@ -196,8 +209,11 @@ class DemSimulation {
                         const std::function<void(h5::File&)>& extra = {}) const;
   /// Continues from a checkpoint exactly where it was written. `input_echo` receives the input text;
   /// `extra` (may be empty) reads what write_checkpoint's `extra` wrote (its errors name the file).
+  /// A job of several ranks cuts the restored system among them (RestartRanks), whatever rank count wrote
+  /// the checkpoint, and continues bit for bit.
   static DemSimulation from_checkpoint(const std::string& path, std::string* input_echo = nullptr,
-                                       const std::function<void(const h5::File&)>& extra = {});
+                                       const std::function<void(const h5::File&)>& extra = {},
+                                       RestartRanks ranks = {});
 
   /// One-paragraph summary: N, dt and dt_c, c_c, skin, cutoff, calibration of the smallest pair.
   std::string summary() const;
@@ -213,6 +229,7 @@ class DemSimulation {
   void rebuild(const std::vector<int>* order);
   void rebuild_distributed();  // rebuild() of a run cut among ranks: migration, halo, canonical order
   void distribute();           // set-up of a run cut among ranks: the decomposition, keep the owned
+  void distribute_restored(std::array<int, 3> rank_grid);  // from the whole system, as at its last rebuild
   void index_half_pass();  // pair table and pass scratch of the half-list pass, after a build
   // Residency (offload builds; empty in host builds). The host copies of the particles, and of the list and
   // history, are current when the flags say so; host_edited_ says the device copy of the particles is not.
@@ -268,6 +285,7 @@ class DemSimulation {
   comm::Halo halo_;
   std::vector<unsigned char> owned_;
   long long n_total_ = 0;
+  CanonicalGrid build_grid_;  // the canonical order's grid at the last rebuild
   mutable bool particles_on_host_ = true, pairs_on_host_ = true, host_edited_ = true;
 };
 

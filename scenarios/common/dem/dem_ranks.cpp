@@ -1,0 +1,253 @@
+// DemSimulation cut among MPI ranks (shared/design/scale-mpi.md): the set-up that keeps a rank's own
+// particles, the rebuild that migrates them with their pair state and lays the ghosts around them, and the
+// two ways between a distributed run and the whole system as one process holds it: whole_system() gathers
+// that on rank 0 (for frames, checkpoints, the wear analysis), and a run restored from such a checkpoint
+// on any rank count replays the last rebuild on its own ranks (distribute_restored()).
+#include <algorithm>
+#include <cstdio>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+#include "core/canonical_order.hpp"
+#include "core/comm/communicator.hpp"
+#include "core/comm/migration.hpp"
+#include "core/comm/pack.hpp"
+#include "core/error.hpp"
+#include "core/pass_timer.hpp"
+#include "scenarios/common/dem/dem_simulation.hpp"
+
+namespace debris {
+
+void DemSimulation::distribute() {
+  if constexpr (exec::offload_build())
+    throw std::runtime_error("a run cut among MPI ranks runs on host threads so far: use a host build under mpirun");
+  if (!settings_.sort_by_cell)
+    throw std::logic_error("DemSimulation: a run cut among ranks stores its particles in the canonical order");
+  decomposition_ = comm::Decomposition::make(box_, comm::size(), comm::rank(), max_cutoff_ + skin_, settings_.rank_grid);
+  box_.wrap(p_);
+  comm::keep_owned(decomposition_, box_, p_);
+  owned_.assign(p_.size(), 1);
+}
+
+void DemSimulation::rebuild_distributed() {
+  {
+    const PassTimer timer(times_.comm);
+    // The pair state seen from each owned particle travels with it; the ghosts go (their owners send them
+    // again). Owned particles keep their order until the canonical sort below.
+    comm::PairRows rows;
+    if (list_.rows() > 0) history_.rows_seen_from(p_, list_, owned_.data(), rows);
+    std::vector<char> ghost(p_.size());
+    for (std::size_t i = 0; i < p_.size(); ++i) ghost[i] = owned_[i] ? 0 : 1;
+    p_.remove_if(ghost);
+    if (rows.offset.size() != p_.size() + 1) rows.offset.assign(p_.size() + 1, 0);
+    box_.wrap(p_);
+    try {
+      times_.migrated += static_cast<long>(comm::exchange(decomposition_, box_, p_, &rows).sent);
+    } catch (const std::runtime_error& e) {
+      // A particle flew past the next rank: the run has blown up, and only this rank knows (core/comm/migration).
+      std::fprintf(stderr, "error (rank %d): %s; is the time step stable?\n", comm::rank(), e.what());
+      comm::abort(kExitUnfinished);
+    }
+    history_.remember_rows(p_, rows);
+    const std::size_t owned = p_.size();
+    halo_.borders(decomposition_, box_, max_cutoff_ + skin_, p_, owned);
+    // Owned particles and ghosts together in the order one process would store the whole system in.
+    build_grid_ = CanonicalGrid::of(box_.view(), n_total_, max_cutoff_ + skin_);
+    const std::vector<int> order = canonical_order(build_grid_, p_);
+    p_.permute(order);
+    halo_.permute(order);
+    owned_.resize(p_.size());
+    for (std::size_t i = 0; i < p_.size(); ++i) owned_[i] = order[i] < static_cast<int>(owned) ? 1 : 0;
+    ++layout_generation_;
+  }
+  const PassTimer timer(times_.neighbours);
+  list_.build(box_.view(), p_, CohesiveCutoff{coef_}, max_cutoff_, skin_,
+              pass_ == PairPass::half ? NeighborKind::half : NeighborKind::full);
+  history_.carry_over(p_, list_);
+  if (pass_ == PairPass::half) index_half_pass();
+  ++times_.rebuilds;
+}
+
+
+namespace {
+// Kept in the order packed.
+struct GatheredRows {
+  std::vector<long long> cell;
+  std::vector<double> x0, y0, z0;
+  std::vector<std::size_t> offset{0};
+  std::vector<std::int64_t> partner;
+  std::vector<double> h;  // 3 per entry
+};
+}  // namespace
+
+void DemSimulation::with_whole_system(const std::function<void(const DemSimulation&)>& use) const {
+  if (!distributed_) return use(*this);
+  // Each rank sends its owned particles: their columns, the cell they were sorted by at the last build, their
+  // positions then, and their rows of the half list (partner ids and pair state). Every listed pair of the
+  // whole system is in the row of an owned particle on some rank, exactly once.
+  std::vector<int> mine;
+  for (std::size_t i = 0; i < p_.size(); ++i)
+    if (owned_[i]) mine.push_back(static_cast<int>(i));
+  const NeighborList::Saved built = list_.save();
+  std::vector<char> out;
+  comm::pack_records(p_, mine, out);
+  for (const int i : mine) {
+    const auto u = static_cast<std::size_t>(i);
+    comm::pack_value(static_cast<std::int64_t>(build_grid_.cell_of(built.x0[u], built.y0[u], built.z0[u])), out);
+    for (const double c : {built.x0[u], built.y0[u], built.z0[u]}) comm::pack_value(c, out);
+    comm::pack_value(static_cast<std::int64_t>(built.offset[u + 1] - built.offset[u]), out);
+    for (int k = built.offset[u]; k < built.offset[u + 1]; ++k) {
+      const auto e = static_cast<std::size_t>(k);
+      comm::pack_value(p_.id[static_cast<std::size_t>(built.index[e])], out);
+      for (const double v : {history_.hx[e], history_.hy[e], history_.hz[e]}) comm::pack_value(v, out);
+    }
+  }
+  const std::vector<std::vector<char>> all = comm::gather_to_root(out);
+  if (comm::rank() != 0) return;
+
+  Particles whole;
+  whole.label_names = p_.label_names;
+  GatheredRows g;
+  for (const std::vector<char>& message : all) {
+    comm::Unpacker u(message);
+    const std::size_t n = u.records(whole).second;
+    for (std::size_t k = 0; k < n; ++k) {
+      g.cell.push_back(static_cast<long long>(u.value<std::int64_t>()));
+      g.x0.push_back(u.value<double>());
+      g.y0.push_back(u.value<double>());
+      g.z0.push_back(u.value<double>());
+      const auto entries = static_cast<std::size_t>(u.value<std::int64_t>());
+      for (std::size_t e = 0; e < entries; ++e) {
+        g.partner.push_back(u.value<std::int64_t>());
+        for (int c = 0; c < 3; ++c) g.h.push_back(u.value<double>());
+      }
+      g.offset.push_back(g.partner.size());
+    }
+  }
+  if (static_cast<long long>(whole.size()) != n_total_)
+    throw std::logic_error("DemSimulation::with_whole_system: gathered " + std::to_string(whole.size()) + " of " +
+                           std::to_string(n_total_) + " particles");
+  // One process's storage order: by the cell at the build, then by id.
+  std::vector<int> order(whole.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    const auto ua = static_cast<std::size_t>(a), ub = static_cast<std::size_t>(b);
+    return g.cell[ua] != g.cell[ub] ? g.cell[ua] < g.cell[ub] : whole.id[ua] < whole.id[ub];
+  });
+  whole.permute(order);
+  std::vector<int> index_of_id(static_cast<std::size_t>(whole.max_id() + 1), -1);
+  for (std::size_t i = 0; i < whole.size(); ++i) index_of_id[static_cast<std::size_t>(whole.id[i])] = static_cast<int>(i);
+  NeighborList::Saved list{built.kind, built.skin, {0}, {}, {}, {}, {}, {built.len0[0], built.len0[1], built.len0[2]}};
+  std::vector<double> hx, hy, hz;
+  for (std::size_t i = 0; i < whole.size(); ++i) {
+    const auto o = static_cast<std::size_t>(order[i]);
+    list.x0.push_back(g.x0[o]);
+    list.y0.push_back(g.y0[o]);
+    list.z0.push_back(g.z0[o]);
+    for (std::size_t e = g.offset[o]; e < g.offset[o + 1]; ++e) {
+      const int j = index_of_id[static_cast<std::size_t>(g.partner[e])];
+      if (j <= static_cast<int>(i) && list.kind == NeighborKind::half)
+        throw std::logic_error("DemSimulation::with_whole_system: a half-list row out of the canonical order");
+      list.index.push_back(j);
+      hx.push_back(g.h[3 * e]);
+      hy.push_back(g.h[3 * e + 1]);
+      hz.push_back(g.h[3 * e + 2]);
+    }
+    list.offset.push_back(static_cast<int>(list.index.size()));
+  }
+
+  DemSimulation image{Restored{}};
+  image.box_ = box_;
+  image.p_ = std::move(whole);
+  image.groups_ = groups_;
+  image.settings_ = settings_;
+  image.settings_.distribute = false;
+  image.coef_ = coef_;
+  image.limits_ = limits_;
+  image.pass_ = pass_;
+  image.dt_ = dt_;
+  image.damping_ = damping_;
+  image.skin_ = skin_;
+  image.max_cutoff_ = max_cutoff_;
+  image.step_ = step_;
+  image.time_ = time_;
+  image.list_.restore(std::move(list));
+  image.history_.hx.assign(hx.begin(), hx.end());
+  image.history_.hy.assign(hy.begin(), hy.end());
+  image.history_.hz.assign(hz.begin(), hz.end());
+  use(image);
+}
+
+void DemSimulation::distribute_restored(std::array<int, 3> rank_grid) {
+  if constexpr (exec::offload_build())
+    throw std::runtime_error("a run cut among MPI ranks runs on host threads so far: use a host build under mpirun");
+  // This object holds the whole system as one process did at the checkpoint. The last rebuild is replayed
+  // on this rank count: owners and ghosts chosen by the positions at the build (the list's x0), stored in
+  // the whole system's order (the canonical order of that build), and the list and history restricted to
+  // them. Every owned particle then has its listed partners, and sums run as they did.
+  settings_.rank_grid = rank_grid;
+  n_total_ = static_cast<long long>(p_.size());
+  distributed_ = true;
+  decomposition_ = comm::Decomposition::make(box_, comm::size(), comm::rank(), max_cutoff_ + skin_, rank_grid);
+  const NeighborList::Saved built = list_.save();
+  Particles at_build = p_;
+  at_build.x.assign(built.x0.begin(), built.x0.end());
+  at_build.y.assign(built.y0.begin(), built.y0.end());
+  at_build.z.assign(built.z0.begin(), built.z0.end());
+  comm::keep_owned(decomposition_, box_, at_build);
+  const std::size_t owned = at_build.size();
+  halo_.borders(decomposition_, box_, max_cutoff_ + skin_, at_build, owned);
+  std::vector<int> index_of_id(static_cast<std::size_t>(p_.max_id() + 1), -1);
+  for (std::size_t i = 0; i < p_.size(); ++i) index_of_id[static_cast<std::size_t>(p_.id[i])] = static_cast<int>(i);
+  std::vector<int> order(at_build.size());
+  std::iota(order.begin(), order.end(), 0);
+  auto global = [&](int i) { return index_of_id[static_cast<std::size_t>(at_build.id[static_cast<std::size_t>(i)])]; };
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return global(a) < global(b); });
+  halo_.permute(order);
+  owned_.assign(order.size(), 0);
+  std::vector<int> from(order.size());  // whole-system index of each stored particle
+  std::vector<int> local_of(p_.size(), -1);
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    owned_[i] = order[i] < static_cast<int>(owned) ? 1 : 0;
+    from[i] = global(order[i]);
+    local_of[static_cast<std::size_t>(from[i])] = static_cast<int>(i);
+  }
+  // The state now (every column) from the whole system; the list and history restricted to this rank.
+  Particles local = p_;
+  local.permute(from);  // the first from.size() rows: this rank's particles, in order
+  local.resize(from.size());
+  NeighborList::Saved list{built.kind, built.skin, {0}, {}, {}, {}, {}, {built.len0[0], built.len0[1], built.len0[2]}};
+  std::vector<double> hx, hy, hz;
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    const auto g = static_cast<std::size_t>(from[i]);
+    list.x0.push_back(built.x0[g]);
+    list.y0.push_back(built.y0[g]);
+    list.z0.push_back(built.z0[g]);
+    for (int k = built.offset[g]; k < built.offset[g + 1]; ++k) {
+      const auto e = static_cast<std::size_t>(k);
+      const int j = local_of[static_cast<std::size_t>(built.index[e])];
+      if (j < 0) {
+        if (owned_[i])
+          throw std::logic_error("DemSimulation::distribute_restored: particle id " + std::to_string(local.id[i]) +
+                                 " has a listed partner beyond the ghost layer");
+        continue;  // two ghosts: their pair is another rank's
+      }
+      list.index.push_back(j);
+      hx.push_back(history_.hx[e]);
+      hy.push_back(history_.hy[e]);
+      hz.push_back(history_.hz[e]);
+    }
+    list.offset.push_back(static_cast<int>(list.index.size()));
+  }
+  p_ = std::move(local);
+  list_.restore(std::move(list));
+  history_.hx.assign(hx.begin(), hx.end());
+  history_.hy.assign(hy.begin(), hy.end());
+  history_.hz.assign(hz.begin(), hz.end());
+  build_grid_ = CanonicalGrid::of(box_.view(), n_total_, max_cutoff_ + skin_);
+  ++layout_generation_;
+  if (pass_ == PairPass::half) index_half_pass();
+}
+
+}  // namespace debris
