@@ -18,6 +18,13 @@ namespace {
 
 DEBRIS_DECLARE_TARGET
 
+// W_ab -= term: six exact accumulators, xx yy zz xy xz yz. (A function, not a lambda: clang's offload
+// compiler refuses a lambda that captures the accumulator width in a declare-target region.)
+inline void add_negated(std::int64_t* s, double xx, double yy, double zz, double xy, double xz, double yz) {
+  const double term[6] = {xx, yy, zz, xy, xz, yz};
+  for (int q = 0; q < 6; ++q) comm::exact_add(s + q * comm::kExactWords, -term[q]);
+}
+
 // Adds the share of row i to the exact accumulators s (six, xx yy zz xy xz yz): the pair forces of the row
 // from copies of their histories (never advanced), plus m v v when i is selected. A full list meets each
 // pair from both ends, and half of r_ij (x) F_ij goes to each selected end; a half list meets it once and
@@ -35,10 +42,6 @@ inline void add_particle_virial(std::int64_t* s, int i, int half, const int* sel
   const Vec3 xi{x[i], y[i], z[i]}, vi{vx[i], vy[i], vz[i]}, wi{wx[i], wy[i], wz[i]};
   const double ri = radius[i], mi = mass[i];
   const double own = (sel == nullptr || sel[i]) ? 0.5 : 0.0;
-  auto add = [s](double xx, double yy, double zz, double xy, double xz, double yz) {
-    const double term[6] = {xx, yy, zz, xy, xz, yz};
-    for (int q = 0; q < 6; ++q) comm::exact_add(s + q * comm::kExactWords, -term[q]);
-  };
   if (!half && own == 0.0) return;
   for (int k = offset[i]; k < offset[i + 1]; ++k) {
     const int j = index[k];
@@ -49,11 +52,11 @@ inline void add_particle_virial(std::int64_t* s, int i, int half, const int* sel
     const CohesivePair pair{dx, ri, radius[j], pp.delta_f, pp.c_n, vi - Vec3{vx[j], vy[j], vz[j]}, wi,
                             Vec3{wx[j], wy[j], wz[j]}, Vec3{hx[k], hy[k], hz[k]}, i < j};
     const Vec3 f = cohesive_pair_force(coef, opt, pair, 0.0, 0).force;  // the history is not advanced
-    add(share * dx.x * f.x, share * dx.y * f.y, share * dx.z * f.z, share * dx.x * f.y, share * dx.x * f.z,
+    add_negated(s, share * dx.x * f.x, share * dx.y * f.y, share * dx.z * f.z, share * dx.x * f.y, share * dx.x * f.z,
         share * dx.y * f.z);
   }
   if (kinetic && own > 0)
-    add(mi * vi.x * vi.x, mi * vi.y * vi.y, mi * vi.z * vi.z, mi * vi.x * vi.y, mi * vi.x * vi.z, mi * vi.y * vi.z);
+    add_negated(s, mi * vi.x * vi.x, mi * vi.y * vi.y, mi * vi.z * vi.z, mi * vi.x * vi.y, mi * vi.x * vi.z, mi * vi.y * vi.z);
 }
 
 DEBRIS_END_DECLARE_TARGET
