@@ -11,5 +11,5 @@ int main(int argc, char** argv) {
   return debris::run_main(argc, argv, "debris_dem",
                           "debris_dem: cohesive coarse-grained DEM (Pham-Ba & Molinari) on host threads or a GPU",
                           "./build/bin/debris_dem -i scenarios/dem/default.yaml -o out/dem_default",
-                          debris::prepare_dem_run);
+                          debris::prepare_dem_run, /*runs_on_ranks=*/true);
 }

@@ -365,6 +365,8 @@ DemSimulation DemSimulation::restore(const h5::File& f, std::string* input_echo)
   // Derived data, recomputed exactly as the original run computed it.
   sim.coef_ = CohesiveCoefficients::from(sim.settings_.material);
   sim.limits_ = stability_limits(sim.coef_, sim.p_);
+  sim.limit_radius_ = sim.p_.radius[static_cast<std::size_t>(sim.limits_.particle)];
+  sim.limit_mass_ = sim.p_.mass[static_cast<std::size_t>(sim.limits_.particle)];
   // Everything read goes to the device (the list did in restore()).
   if constexpr (exec::offload_build()) {
     to_device(sim.p_);

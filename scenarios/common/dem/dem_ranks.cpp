@@ -165,6 +165,8 @@ void DemSimulation::with_whole_system(const std::function<void(const DemSimulati
   image.settings_.distribute = false;
   image.coef_ = coef_;
   image.limits_ = limits_;
+  image.limit_radius_ = limit_radius_;
+  image.limit_mass_ = limit_mass_;
   image.pass_ = pass_;
   image.dt_ = dt_;
   image.damping_ = damping_;

@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include "core/comm/communicator.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/io/dump_writer.hpp"
@@ -32,7 +33,7 @@ std::vector<std::string> dem_thermo_columns(const Groups& groups) {
 }
 
 std::vector<double> dem_thermo_row(const DemSimulation& sim, const CohesiveDiagnostics& d) {
-  const ParticleTotals t = particle_totals(sim.particles());
+  const ParticleTotals t = sim.totals();  // the whole system's, on every rank
   std::vector<double> row{static_cast<double>(sim.step_count()), sim.time(), t.kinetic_energy, d.elastic_energy,
                           d.max_overlap, static_cast<double>(d.interacting_pairs)};
   for (const Group& g : sim.groups().list)
@@ -92,17 +93,17 @@ class DemRunModel final : public RunModel {
     if (cfg_.overlap_limit_auto && restored.overlap_limit) {
       overlap_limit_ = *restored.overlap_limit;
     } else if (cfg_.overlap_limit_auto) {
-      const auto& r = sim_.particles().radius;
-      overlap_limit_ = sim_.diagnostics().max_overlap / *std::min_element(r.begin(), r.end()) + 1.0;
+      overlap_limit_ = sim_.diagnostics().max_overlap / sim_.smallest_radius() + 1.0;
     } else {
       overlap_limit_ = cfg_.overlap_limit;
     }
     if (cfg_.wear) {
-      wear_.emplace(*cfg_.wear, sim_);
-      if (restored.wear) {
-        wear_->restore(*restored.wear, checkpoint);
-        wear_restored_ = true;
-      }
+      // The analysis reads the whole system: rank 0 holds it when the run is cut among ranks.
+      wear_restored_ = restored.wear.has_value();
+      sim_.with_whole_system([&](const DemSimulation& whole) {
+        wear_.emplace(*cfg_.wear, whole);
+        if (restored.wear) wear_->restore(*restored.wear, checkpoint);
+      });
     }
   }
   std::string describe() const {
@@ -116,7 +117,7 @@ class DemRunModel final : public RunModel {
   double time() const override { return sim_.time(); }
   void step() override {
     sim_.step();
-    if (wear_ && sim_.step_count() % cfg_.wear->every == 0) sample_wear();
+    if (cfg_.wear && sim_.step_count() % cfg_.wear->every == 0) sample_wear();
   }
   std::size_t items() const override { return sim_.particle_count(); }  // every step: no transfer
   const char* item_name() const override { return "particle"; }
@@ -142,7 +143,12 @@ class DemRunModel final : public RunModel {
   void open_frames(const std::string& dir, const std::string& suffix) override {
     namespace fs = std::filesystem;
     output_dir_ = dir;
-    if (cfg_.output.pictures && suffix.empty()) write_side_view(dir, "side_start", sim_.particles(), picture_units());
+    if (cfg_.output.pictures && suffix.empty())
+      sim_.with_whole_system(
+          [&](const DemSimulation& whole) { write_side_view(dir, "side_start", whole.particles(), picture_units()); });
+    // The other ranks' share of rank 0's first sample below (the analysis gathers the system).
+    if (cfg_.wear && !root_ && (suffix.empty() || !wear_restored_)) sample_wear();
+    if (!root_) return;  // rank 0 writes the files
     dump_.emplace((fs::path(dir) / ("dump" + suffix + ".lammpstrj")).string());
     std::vector<std::string> names;
     for (const Group& g : sim_.groups().list) names.push_back(g.name);
@@ -166,16 +172,20 @@ class DemRunModel final : public RunModel {
   bool frame_due(long step) const override { return due(cfg_.output.dump_every, step) || due(trajectory_every(), step); }
   void write_frame(bool every_stream) override {
     const long step = sim_.step_count();
-    if (every_stream || due(cfg_.output.dump_every, step)) dump_->write_frame(step, sim_.box(), sim_.particles());
-    if (every_stream || due(trajectory_every(), step))
-      trajectory_->write_frame(step, sim_.time(), sim_.box(), sim_.particles());
+    sim_.with_whole_system([&](const DemSimulation& whole) {
+      if (every_stream || due(cfg_.output.dump_every, step)) dump_->write_frame(step, whole.box(), whole.particles());
+      if (every_stream || due(trajectory_every(), step))
+        trajectory_->write_frame(step, whole.time(), whole.box(), whole.particles());
+    });
   }
   std::string frame_files(const std::string& suffix) const override {
     return "dump" + suffix + ".lammpstrj, trajectory" + suffix + ".xmf + .h5" + (wear_ ? ", wear.csv" : "") +
            (cfg_.output.pictures ? ", side_view.png, tangential_force.png" : "");
   }
   void write_checkpoint(const std::string& path, const std::string& input) const override {
-    sim_.write_checkpoint(path, input, [&](h5::File& f) { write_run_state(f, overlap_limit_, wear_); });
+    sim_.with_whole_system([&](const DemSimulation& whole) {
+      whole.write_checkpoint(path, input, [&](h5::File& f) { write_run_state(f, overlap_limit_, wear_); });
+    });
   }
 
   std::string apply_stage(int k) override {
@@ -234,27 +244,38 @@ class DemRunModel final : public RunModel {
         {"contact", t.contact, ""},
         {"integration", t.integration, ""},
         {"groups/damp", t.other, ""}};
+    if (sim_.distributed()) {
+      std::ostringstream note;
+      note << "(" << sim_.decomposition().describe() << "; rank 0's halo " << sim_.halo().forward_bytes()
+           << " B per step, " << t.migrated << " particles migrated)";
+      rows.push_back({"comm", t.comm, note.str()});
+    }
     if (wear_) rows.push_back({"wear", wear_seconds_, "(bonds, clusters, rigid fits: wear.csv)"});
     return rows;
   }
   std::string closing_report() override {
     std::string report = wear_ ? wear_->report() : std::string();
     if (cfg_.output.pictures) {
-      write_side_view(output_dir_, "side_end", sim_.particles(), picture_units());
-      if (!report.empty()) report += '\n';
-      const auto& r = sim_.particles().radius;
-      report += draw_run_pictures(output_dir_, sim_.groups(), picture_units(), sim_.box().lo(), sim_.box().hi(),
-                                  r.empty() ? 0.0 : *std::max_element(r.begin(), r.end()));
+      sim_.with_whole_system([&](const DemSimulation& whole) {
+        write_side_view(output_dir_, "side_end", whole.particles(), picture_units());
+        if (!report.empty()) report += '\n';
+        const auto& r = whole.particles().radius;
+        report += draw_run_pictures(output_dir_, whole.groups(), picture_units(), whole.box().lo(), whole.box().hi(),
+                                    r.empty() ? 0.0 : *std::max_element(r.begin(), r.end()));
+      });
     }
     return report;
   }
 
  private:
   static bool due(long every, long step) { return every > 0 && step % every == 0; }
+  // Collective when the run is cut among ranks: every rank gathers, rank 0 samples and writes.
   void sample_wear(bool write = true) {
     const auto t0 = std::chrono::steady_clock::now();
-    const WearSample& w = wear_->sample(sim_);
-    if (wear_csv_ && write) wear_csv_->write_row(WearAnalysis::row(w));
+    sim_.with_whole_system([&](const DemSimulation& whole) {
+      const WearSample& w = wear_->sample(whole);
+      if (wear_csv_ && write) wear_csv_->write_row(WearAnalysis::row(w));
+    });
     wear_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   PictureUnits picture_units() const {
@@ -267,6 +288,7 @@ class DemRunModel final : public RunModel {
 
   DemSimulation sim_;
   DemRunConfig cfg_;
+  const bool root_ = comm::rank() == 0;  // writes the files of a run cut among ranks
   double overlap_limit_ = 0.5;
   std::optional<CohesiveDiagnostics> diag_;
   long diag_step_ = -1;

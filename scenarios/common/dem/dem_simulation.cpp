@@ -52,6 +52,8 @@ void DemSimulation::setup() {
 
   // Time step against eq 6, damping against eq 21, both for the most restrictive particle.
   limits_ = stability_limits(coef_, p_);
+  limit_radius_ = p_.radius[static_cast<std::size_t>(limits_.particle)];
+  limit_mass_ = p_.mass[static_cast<std::size_t>(limits_.particle)];
   if (settings_.time_step > 0.0) {
     dt_ = settings_.time_step;
   } else {
@@ -270,6 +272,13 @@ CohesiveDiagnostics DemSimulation::diagnostics() const {
   return cohesive_diagnostics(coef_, settings_.options, box_.view(), p_, list_, history_, sum_scope());
 }
 
+double DemSimulation::smallest_radius() const {
+  particles_to_host();
+  double r = p_.size() ? *std::min_element(p_.radius.begin(), p_.radius.end()) : HUGE_VAL;
+  if (distributed_) comm::allreduce_min(&r, 1);
+  return r;
+}
+
 ParticleTotals DemSimulation::totals() const {
   particles_to_device();
   return particle_totals(p_, sum_scope());
@@ -340,15 +349,21 @@ std::string DemSimulation::local_health_check(const CohesiveDiagnostics& diag, d
 
 std::string DemSimulation::summary() const {
   // limits_.particle indexes the storage order at set-up; particles have been sorted by cell since.
+  // Cut among ranks: the one recorded at set-up (a rank holds a part of the system).
   particles_to_host();
-  const std::size_t i = static_cast<std::size_t>(stability_limits(coef_, p_).particle);
-  const CohesivePairParams pp = cohesive_pair_params(coef_, p_.radius[i], p_.radius[i], p_.mass[i], p_.mass[i]);
+  double r = limit_radius_, m = limit_mass_;
+  if (!distributed_) {
+    const std::size_t i = static_cast<std::size_t>(stability_limits(coef_, p_).particle);
+    r = p_.radius[i];
+    m = p_.mass[i];
+  }
+  const CohesivePairParams pp = cohesive_pair_params(coef_, r, r, m, m);
   std::ostringstream os;
   os << std::setprecision(6);
   os << "particles " << particle_count() << ", groups " << groups_.size() << "\n"
      << "material: d_min = " << settings_.material.minimum_diameter()
      << " (eq 19), d_c = " << settings_.material.critical_diameter() << " (eq 18)\n"
-     << "smallest pair (d = " << 2 * p_.radius[i] << "): k_N = " << pp.k_n << ", k_T = " << pp.k_t
+     << "smallest pair (d = " << 2 * r << "): k_N = " << pp.k_n << ", k_T = " << pp.k_t
      << ", delta_e = " << pp.delta_e << ", delta_f = " << pp.delta_f << ", F_mT = " << pp.f_max_t
      << ", c_N = " << pp.c_n << ", c_T = " << pp.c_t << "\n"
      << "critical time step dt_c = " << limits_.dt_c << " (eq 6), dt = " << dt_ << " = " << dt_ / limits_.dt_c

@@ -156,6 +156,8 @@ class DemSimulation {
   SumScope sum_scope() const { return distributed_ ? SumScope{owned_.data(), true} : SumScope{}; }
   /// Kinetic energy, momentum and angular momentum of the whole system (every rank gets the same bits).
   ParticleTotals totals() const;
+  /// The smallest radius in the whole system (collective when cut among ranks).
+  double smallest_radius() const;
   /// Calls `use` with the whole system as one process running it would hold it at this step (particles in
   /// its storage order, the neighbour list as built, the contact history, groups, clock): this simulation
   /// itself on one process; cut among ranks, an image gathered on rank 0, and the other ranks do not call
@@ -286,6 +288,7 @@ class DemSimulation {
   std::vector<unsigned char> owned_;
   long long n_total_ = 0;
   CanonicalGrid build_grid_;  // the canonical order's grid at the last rebuild
+  double limit_radius_ = 0, limit_mass_ = 0;  // the particle that limits dt at set-up (summary())
   mutable bool particles_on_host_ = true, pairs_on_host_ = true, host_edited_ = true;
 };
 

@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -9,6 +10,7 @@
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <streambuf>
 
 #include "core/comm/communicator.hpp"
 #include "core/error.hpp"
@@ -24,6 +26,31 @@ namespace debris {
 namespace {
 
 using Clock = WallClock;
+
+// The other ranks' std::cout and std::cerr go nowhere while the run lasts.
+class Silenced {
+ public:
+  explicit Silenced(bool on) : on_(on) {
+    if (!on_) return;
+    out_ = std::cout.rdbuf(&null_);
+    err_ = std::cerr.rdbuf(&null_);
+  }
+  ~Silenced() {
+    if (!on_) return;
+    std::cout.rdbuf(out_);
+    std::cerr.rdbuf(err_);
+  }
+  Silenced(const Silenced&) = delete;
+  Silenced& operator=(const Silenced&) = delete;
+
+ private:
+  struct Null : std::streambuf {
+    int overflow(int c) override { return traits_type::not_eof(c); }
+  };
+  bool on_;
+  Null null_;
+  std::streambuf *out_ = nullptr, *err_ = nullptr;
+};
 
 bool due(long every, long step) { return every > 0 && step % every == 0; }
 
@@ -59,6 +86,9 @@ struct Run::State {
   std::optional<Progress> progress;
   bool started_outputs = false;
   std::string stop_message, report;
+  // Cut among ranks: every rank runs the loop; rank 0 (root) alone writes files (the models' frames and
+  // checkpoints gather the system there themselves).
+  const bool root = comm::rank() == 0, many_ranks = comm::size() > 1;
 
   RunModel& model() { return *plan.model; }
 
@@ -76,8 +106,8 @@ struct Run::State {
     const long step = m.step_count();
     const bool first = step == first_step;
     if (due(plan.thermo_every, step) || final_step || first) {
-      const auto row = m.thermo_row();
-      if (!(plan.restored && first)) thermo->write_row(row);
+      const auto row = m.thermo_row();  // collective: every rank computes it
+      if (root && !(plan.restored && first)) thermo->write_row(row);
       m.print_thermo(cols, row, first);
     }
     if (final_step || first || m.frame_due(step)) m.write_frame(final_step || first);
@@ -110,10 +140,19 @@ struct Run::State {
     } catch (const InputError&) {
       throw;
     } catch (const std::bad_alloc&) {
-      return stop("out of memory at step " + std::to_string(model().step_count()));
+      return stopped_on_this_rank("out of memory at step " + std::to_string(model().step_count()));
     } catch (const std::exception& e) {
-      return stop("at step " + std::to_string(model().step_count()) + ": " + e.what());
+      return stopped_on_this_rank("at step " + std::to_string(model().step_count()) + ": " + e.what());
     }
+  }
+
+  /// A failure this rank alone may have met (an output rank 0 cannot write, memory): one process stops
+  /// as before; cut among ranks, the others cannot know, so the job ends here.
+  int stopped_on_this_rank(const std::string& problem) {
+    const int status = stop(problem);
+    if (!many_ranks) return status;
+    std::fprintf(stderr, "%s (rank %d): stopped: %s\n", program.c_str(), comm::rank(), problem.c_str());
+    comm::abort(status);
   }
 };
 
@@ -223,7 +262,7 @@ int Run::start() {
                         problem + " (nothing was written)");
   }
   return s.guarded([&] {
-    {
+    if (s.root) {
       std::error_code ec;
       fs::create_directories(s.dir, ec);
       if (ec) throw output_error(s.dir.string(), "cannot create the output directory: " + ec.message());
@@ -235,11 +274,13 @@ int Run::start() {
     const long first = s.first_step;
     const bool keep_first_row = due(plan.thermo_every, first) || first == 0 || s.last_step == first;
     const std::string thermo_path = (s.dir / "thermo.csv").string();
-    if (plan.restored)
+    if (!s.root)
+      ;  // rank 0 writes the table
+    else if (plan.restored)
       s.thermo.emplace(thermo_path, s.cols, keep_first_row ? first : first - 1);
     else
       s.thermo.emplace(thermo_path, s.cols);
-    if (s.thermo->dropped_to_step() > first)
+    if (s.thermo && s.thermo->dropped_to_step() > first)
       std::cout << "thermo.csv: its rows after step " << first << ", up to step " << s.thermo->dropped_to_step()
                 << " (written by a run that went on past this checkpoint), are dropped; so are the other tables'\n";
     s.suffix = plan.restored ? ".restart" + std::to_string(first) : "";
@@ -376,13 +417,13 @@ void continue_beside_checkpoint(RunPlan& plan, const RunOptions& options) {
 }
 
 namespace {
-// A run of these executables is one process. Started by mpirun in a serial build, each of the N copies
-// would run the whole input and write the same files; an MPI build does not distribute these runs yet
-// (core/comm holds the decomposition, ghosts, migration and exact sums they will use). Either way: exit 2
-// on every process before anything is written, the first one saying why. -1: one process, go on.
-int refuse_many_processes(const std::string& program) {
+// Started by mpirun in a serial build, each of the N copies would run the whole input and write the same
+// files; an MPI build runs a program cut among ranks only where its model does (debris_dem; PeriDEM's
+// grains come with issue 27). Otherwise: exit 2 on every process before anything is written, the first one
+// saying why. -1: go on.
+int refuse_many_processes(const std::string& program, bool runs_on_ranks) {
   const int n = comm::mpi_build() ? comm::size() : comm::launched_processes();
-  if (n <= 1) return -1;
+  if (n <= 1 || (comm::mpi_build() && runs_on_ranks)) return -1;
   if ((comm::mpi_build() ? comm::rank() : comm::launched_rank()) == 0) {
     std::cerr << program << ": input error: 'mpirun -np' = " << n << ": ";
     if (comm::mpi_build())
@@ -397,9 +438,12 @@ int refuse_many_processes(const std::string& program) {
 }  // namespace
 
 int run_main(int argc, char** argv, const std::string& program, const std::string& description,
-             const std::string& example, const std::function<RunPlan(const RunOptions&)>& prepare) {
+             const std::string& example, const std::function<RunPlan(const RunOptions&)>& prepare,
+             bool runs_on_ranks) {
   const comm::Session mpi(&argc, &argv);
-  if (const int status = refuse_many_processes(program); status >= 0) return status;
+  if (const int status = refuse_many_processes(program, runs_on_ranks); status >= 0) return status;
+  // Cut among ranks, rank 0 speaks for all (an error every rank meets is printed once).
+  const Silenced others(comm::rank() != 0);
   CLI::App app{description};
   app.footer("Example, from the repository root:\n  " + example);
   RunOptions opt;

@@ -199,7 +199,14 @@ class Run {
 /// Parses the command line, calls `prepare` (reads the input or the checkpoint, chooses the threads,
 /// builds and validates the system; InputError for bad input), then runs. Returns the exit status. `example`
 /// (a command that works from the repository root) ends the --help text.
+///
+/// Under mpirun (an MPI build), a program whose model runs cut among ranks (`runs_on_ranks`) runs the same
+/// steps, checks and decisions on every rank, which all take part in the collective parts (sums, gathers);
+/// rank 0 alone prints and writes files (the other ranks' std::cout and std::cerr are silenced). An error
+/// every rank meets (bad input, a failed health check) ends all with its status; one only rank 0 meets (an
+/// output it cannot write) ends the job (comm::abort) with exit 3. Other programs are refused (exit 2).
 int run_main(int argc, char** argv, const std::string& program, const std::string& description,
-             const std::string& example, const std::function<RunPlan(const RunOptions&)>& prepare);
+             const std::string& example, const std::function<RunPlan(const RunOptions&)>& prepare,
+             bool runs_on_ranks = false);
 
 }  // namespace debris
