@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # debris_dem cut among MPI ranks writes what one process writes (issue 26's test 3, on the README's default
 # input, shortened): the junction of d0 = 6 nm under its load, settling then sliding (stages, a frozen and a
-# force-driven wall, global damping, carving and labels, the wear analysis), 1,300 steps with thermo rows
-# every 125, frames and checkpoints every 650. At 1, 2, 3 and 4 ranks: thermo.csv, wear.csv and the LAMMPS
-# dump byte for byte the same; a checkpoint written on 4 ranks continues on 2, and one written on 1 on 3,
-# to the same thermo.csv and wear.csv. Bad input on 3 ranks: one message, exit 2, nothing written.
+# force-driven wall, global damping, carving and labels, the wear analysis), 3,000 steps (the settling
+# stage and 500 steps of the slide) with thermo rows every 250, frames and checkpoints every 1,500. On 1, 2,
+# 3 and 4 ranks, and on 2 ranks of 2 threads: thermo.csv, wear.csv and the LAMMPS dump byte for byte the
+# same; a checkpoint written on 4 ranks continues on 2, and one written on 1 on 3, to the same thermo.csv
+# and wear.csv. Bad input on 3 ranks: one message, exit 2, nothing written.
 #   dem_on_ranks.sh <mpirun> <debris_dem> <source dir> <work dir>
 set -euo pipefail
 mpirun=$1 dem=$2 src=$3 work=$4
@@ -15,12 +16,12 @@ run() {  # run <ranks> <debris_dem arguments...>
   shift
   "$mpirun" -np "$np" --oversubscribe --allow-run-as-root --mca mpi_yield_when_idle 1 "$dem" "$@"
 }
-sed -e "s|lammps_data: ../wear/data/|lammps_data: $src/scenarios/wear/data/|" -e 's|^run:|run:\n  steps: 1300|' \
-    -e 's|thermo_every: 625|thermo_every: 125|' -e 's|dump_every: 6250|dump_every: 650|' \
-    -e 's|checkpoint_every: 12500 |checkpoint_every: 650 |' -e 's|pictures: true |pictures: false|' \
+sed -e "s|lammps_data: ../wear/data/|lammps_data: $src/scenarios/wear/data/|" -e 's|^run:|run:\n  steps: 3000|' \
+    -e 's|thermo_every: 625|thermo_every: 250|' -e 's|dump_every: 6250|dump_every: 1500|' \
+    -e 's|checkpoint_every: 12500 |checkpoint_every: 1500 |' -e 's|pictures: true |pictures: false|' \
     "$src/scenarios/dem/default.yaml" > full.yaml
-grep -q 'steps: 1300' full.yaml && grep -q 'checkpoint_every: 650' full.yaml || { echo "default.yaml changed: update $0"; exit 1; }
-sed -e 's|steps: 1300|steps: 650|' full.yaml > half.yaml
+grep -q 'steps: 3000' full.yaml && grep -q 'checkpoint_every: 1500' full.yaml || { echo "default.yaml changed: update $0"; exit 1; }
+sed -e 's|steps: 3000|steps: 1500|' full.yaml > half.yaml
 sed -e 's|poisson_ratio: 0.17|poisson_ratio: 0.4|' full.yaml > bad.yaml
 
 failed=0
@@ -33,14 +34,18 @@ for np in 2 3 4; do
   for f in thermo.csv wear.csv dump.lammpstrj; do same one/$f ranks$np/$f "$f on $np ranks"; done
   grep -q "^comm " ranks$np.log || { echo "no comm row in the pass table on $np ranks"; failed=1; }
 done
+# Hybrid: 2 ranks of 2 threads each (unbound: the two ranks share the machine's cores).
+OMP_NUM_THREADS=2 "$mpirun" -np 2 --oversubscribe --allow-run-as-root --bind-to none --mca mpi_yield_when_idle 1 \
+  "$dem" -i full.yaml -o hybrid --threads 2 > hybrid.log
+for f in thermo.csv wear.csv dump.lammpstrj; do same one/$f hybrid/$f "$f on 2 ranks x 2 threads"; done
 # Restarts across rank counts: 4 -> 2 and 1 -> 3.
 run 4 -i half.yaml -o from4 > from4.log
 run 2 -i full.yaml --restart from4/checkpoint.h5 > to2.log
 run 1 -i half.yaml -o from1 > from1.log
 run 3 -i full.yaml --restart from1/checkpoint.h5 > to3.log
 for f in thermo.csv wear.csv; do
-  same one/$f from4/$f "$f written on 4 ranks to step 650, continued on 2"
-  same one/$f from1/$f "$f written on 1 rank to step 650, continued on 3"
+  same one/$f from4/$f "$f written on 4 ranks to step 1500, continued on 2"
+  same one/$f from1/$f "$f written on 1 rank to step 1500, continued on 3"
 done
 # Bad input: rank 0 alone says so, every rank exits 2, nothing is written.
 set +e
