@@ -35,7 +35,7 @@ packages=(
   python3-pytest              # its tests (tests/python; configuring the tests needs it, as it needs Gmsh)
 )
 [ "$with_tests" -eq 0 ] || packages+=(python3-paraview)
-[ "$with_mpi" -eq 0 ] || packages+=(libopenmpi-dev openmpi-bin libhdf5-openmpi-dev)
+[ "$with_mpi" -eq 0 ] || packages+=(libopenmpi-dev openmpi-bin libhdf5-openmpi-dev hdf5-tools)  # h5diff: tests/mpi
 # clang-offload-packager comes from clang-tools-19; libomptarget and its x86_64 plugin from libomp-19-dev.
 [ "$with_hostdevice" -eq 0 ] || packages+=(clang-19 clang-tools-19 libomp-19-dev)
 missing=()

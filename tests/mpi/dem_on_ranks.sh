@@ -4,7 +4,8 @@
 # force-driven wall, global damping, carving and labels, the wear analysis), 3,000 steps (the settling
 # stage and 500 steps of the slide) with thermo rows every 250, frames and checkpoints every 1,500. On 1, 2,
 # 3 and 4 ranks, and on 2 ranks of 2 threads: thermo.csv, wear.csv and the LAMMPS dump byte for byte the
-# same; a checkpoint written on 4 ranks continues on 2, and one written on 1 on 3, to the same thermo.csv
+# same, the HDF5 trajectory (every particle of every frame) and the final checkpoint dataset for dataset
+# (h5diff, from hdf5-tools); a checkpoint written on 4 ranks continues on 2, and one written on 1 on 3, to the same thermo.csv
 # and wear.csv. Bad input on 3 ranks: one message, exit 2, nothing written.
 #   dem_on_ranks.sh <mpirun> <debris_dem> <source dir> <work dir>
 set -euo pipefail
@@ -32,6 +33,10 @@ run 1 -i full.yaml -o one > one.log
 for np in 2 3 4; do
   run $np -i full.yaml -o ranks$np > ranks$np.log
   for f in thermo.csv wear.csv dump.lammpstrj; do same one/$f ranks$np/$f "$f on $np ranks"; done
+  # HDF5 files carry their write times: h5diff compares every dataset and attribute instead.
+  for f in trajectory.h5 checkpoint.h5; do
+    if h5diff one/$f ranks$np/$f > /dev/null; then echo "same: $f on $np ranks (h5diff)"; else echo "DIFFERS: $f on $np ranks"; failed=1; fi
+  done
   grep -q "^comm " ranks$np.log || { echo "no comm row in the pass table on $np ranks"; failed=1; }
 done
 # Hybrid: 2 ranks of 2 threads each (unbound: the two ranks share the machine's cores).
