@@ -6,7 +6,8 @@
 # 3 and 4 ranks, and on 2 ranks of 2 threads: thermo.csv, wear.csv and the LAMMPS dump byte for byte the
 # same, the HDF5 trajectory (every particle of every frame) and the final checkpoint dataset for dataset
 # (h5diff, from hdf5-tools); a checkpoint written on 4 ranks continues on 2, and one written on 1 on 3, to the same thermo.csv
-# and wear.csv. Bad input on 3 ranks: one message, exit 2, nothing written.
+# and wear.csv. The whole default run on 2 ranks: the same files and wear verdict. Bad input on 3 ranks:
+# one message, exit 2, nothing written.
 #   dem_on_ranks.sh <mpirun> <debris_dem> <source dir> <work dir>
 set -euo pipefail
 mpirun=$1 dem=$2 src=$3 work=$4
@@ -52,6 +53,15 @@ for f in thermo.csv wear.csv; do
   same one/$f from4/$f "$f written on 4 ranks to step 1500, continued on 2"
   same one/$f from1/$f "$f written on 1 rank to step 1500, continued on 3"
 done
+# The default input in full (127,500 steps, 10.2 ns: settling, then 100 nm of slide) on 2 ranks: the same
+# files and the same wear verdict as one process.
+sed -e "s|lammps_data: ../wear/data/|lammps_data: $src/scenarios/wear/data/|" -e 's|pictures: true |pictures: false|' \
+    "$src/scenarios/dem/default.yaml" > default.yaml
+run 1 -i default.yaml -o default1 > default1.log
+run 2 -i default.yaml -o default2 > default2.log
+for f in thermo.csv wear.csv dump.lammpstrj; do same default1/$f default2/$f "$f of the whole default run on 2 ranks"; done
+verdict1=$(grep "wear: verdict" default1.log) verdict2=$(grep "wear: verdict" default2.log)
+if [ -n "$verdict1" ] && [ "$verdict1" = "$verdict2" ]; then echo "same: $verdict1"; else echo "DIFFERS: verdicts '$verdict1' and '$verdict2'"; failed=1; fi
 # Bad input: rank 0 alone says so, every rank exits 2, nothing is written.
 set +e
 run 3 -i bad.yaml -o bad > bad.out 2> bad.err
