@@ -71,6 +71,33 @@ void DemSimulation::rebuild_distributed() {
 
 
 namespace {
+// A neighbour list and its pair state put together row by row (the whole system's from the ranks' rows, or a
+// rank's share of the whole system's), then installed.
+struct ListAssembly {
+  NeighborList::Saved list;
+  std::vector<double> hx, hy, hz;
+  explicit ListAssembly(const NeighborList::Saved& like)
+      : list{like.kind, like.skin, {0}, {}, {}, {}, {}, {like.len0[0], like.len0[1], like.len0[2]}} {}
+  void begin_row(double x0, double y0, double z0) {
+    list.x0.push_back(x0);
+    list.y0.push_back(y0);
+    list.z0.push_back(z0);
+  }
+  void entry(int j, double a, double b, double c) {
+    list.index.push_back(j);
+    hx.push_back(a);
+    hy.push_back(b);
+    hz.push_back(c);
+  }
+  void end_row() { list.offset.push_back(static_cast<int>(list.index.size())); }
+  void install(NeighborList& l, ContactHistory& h) {
+    l.restore(std::move(list));
+    h.hx.assign(hx.begin(), hx.end());
+    h.hy.assign(hy.begin(), hy.end());
+    h.hz.assign(hz.begin(), hz.end());
+  }
+};
+
 // Kept in the order packed.
 struct GatheredRows {
   std::vector<long long> cell;
@@ -138,23 +165,17 @@ void DemSimulation::with_whole_system(const std::function<void(const DemSimulati
   whole.permute(order);
   std::vector<int> index_of_id(static_cast<std::size_t>(whole.max_id() + 1), -1);
   for (std::size_t i = 0; i < whole.size(); ++i) index_of_id[static_cast<std::size_t>(whole.id[i])] = static_cast<int>(i);
-  NeighborList::Saved list{built.kind, built.skin, {0}, {}, {}, {}, {}, {built.len0[0], built.len0[1], built.len0[2]}};
-  std::vector<double> hx, hy, hz;
+  ListAssembly rows(built);
   for (std::size_t i = 0; i < whole.size(); ++i) {
     const auto o = static_cast<std::size_t>(order[i]);
-    list.x0.push_back(g.x0[o]);
-    list.y0.push_back(g.y0[o]);
-    list.z0.push_back(g.z0[o]);
+    rows.begin_row(g.x0[o], g.y0[o], g.z0[o]);
     for (std::size_t e = g.offset[o]; e < g.offset[o + 1]; ++e) {
       const int j = index_of_id[static_cast<std::size_t>(g.partner[e])];
-      if (j <= static_cast<int>(i) && list.kind == NeighborKind::half)
+      if (j <= static_cast<int>(i) && built.kind == NeighborKind::half)
         throw std::logic_error("DemSimulation::with_whole_system: a half-list row out of the canonical order");
-      list.index.push_back(j);
-      hx.push_back(g.h[3 * e]);
-      hy.push_back(g.h[3 * e + 1]);
-      hz.push_back(g.h[3 * e + 2]);
+      rows.entry(j, g.h[3 * e], g.h[3 * e + 1], g.h[3 * e + 2]);
     }
-    list.offset.push_back(static_cast<int>(list.index.size()));
+    rows.end_row();
   }
 
   DemSimulation image{Restored{}};
@@ -174,10 +195,7 @@ void DemSimulation::with_whole_system(const std::function<void(const DemSimulati
   image.max_cutoff_ = max_cutoff_;
   image.step_ = step_;
   image.time_ = time_;
-  image.list_.restore(std::move(list));
-  image.history_.hx.assign(hx.begin(), hx.end());
-  image.history_.hy.assign(hy.begin(), hy.end());
-  image.history_.hz.assign(hz.begin(), hz.end());
+  rows.install(image.list_, image.history_);
   use(image);
 }
 
@@ -219,13 +237,10 @@ void DemSimulation::distribute_restored(std::array<int, 3> rank_grid) {
   Particles local = p_;
   local.permute(from);  // the first from.size() rows: this rank's particles, in order
   local.resize(from.size());
-  NeighborList::Saved list{built.kind, built.skin, {0}, {}, {}, {}, {}, {built.len0[0], built.len0[1], built.len0[2]}};
-  std::vector<double> hx, hy, hz;
+  ListAssembly rows(built);
   for (std::size_t i = 0; i < from.size(); ++i) {
     const auto g = static_cast<std::size_t>(from[i]);
-    list.x0.push_back(built.x0[g]);
-    list.y0.push_back(built.y0[g]);
-    list.z0.push_back(built.z0[g]);
+    rows.begin_row(built.x0[g], built.y0[g], built.z0[g]);
     for (int k = built.offset[g]; k < built.offset[g + 1]; ++k) {
       const auto e = static_cast<std::size_t>(k);
       const int j = local_of[static_cast<std::size_t>(built.index[e])];
@@ -235,18 +250,12 @@ void DemSimulation::distribute_restored(std::array<int, 3> rank_grid) {
                                  " has a listed partner beyond the ghost layer");
         continue;  // two ghosts: their pair is another rank's
       }
-      list.index.push_back(j);
-      hx.push_back(history_.hx[e]);
-      hy.push_back(history_.hy[e]);
-      hz.push_back(history_.hz[e]);
+      rows.entry(j, history_.hx[e], history_.hy[e], history_.hz[e]);
     }
-    list.offset.push_back(static_cast<int>(list.index.size()));
+    rows.end_row();
   }
   p_ = std::move(local);
-  list_.restore(std::move(list));
-  history_.hx.assign(hx.begin(), hx.end());
-  history_.hy.assign(hy.begin(), hy.end());
-  history_.hz.assign(hz.begin(), hz.end());
+  rows.install(list_, history_);
   build_grid_ = CanonicalGrid::of(box_.view(), n_total_, max_cutoff_ + skin_);
   ++layout_generation_;
   if (pass_ == PairPass::half) index_half_pass();
