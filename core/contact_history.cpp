@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "core/comm/migration.hpp"
 #include "core/exec.hpp"
@@ -118,25 +119,33 @@ void ContactHistory::rows_seen_from(const Particles& p, const NeighborList& list
     }
 }
 
-void ContactHistory::remember_rows(const Particles& p, const comm::PairRows& rows) {
+void ContactHistory::remember_rows(const Particles& p, const comm::PairRows& rows, const std::vector<int>& stored_at) {
   if constexpr (exec::offload_build()) throw std::logic_error("ContactHistory::remember_rows: host builds only");
   static_assert(comm::PairRows::kValues == 3, "the cohesive model's tangential spring: three doubles per pair");
   const std::size_t n = rows.offset.size() - 1;
-  if (n > p.size()) throw std::logic_error("ContactHistory::remember_rows: more rows than particles");
+  if (n != stored_at.size()) throw std::logic_error("ContactHistory::remember_rows: one storage index per row");
+  // The storage index of each id stored here (a hash of this rank's particles, not an array over all ids).
+  std::unordered_map<std::int64_t, int> index_of_id;
+  index_of_id.reserve(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) index_of_id.emplace(p.id[i], static_cast<int>(i));
   old_offset_.resize(n + 1);
-  for (std::size_t i = 0; i <= n; ++i) old_offset_[i] = static_cast<int>(rows.offset[i]);
-  old_partner_.assign(rows.partner.begin(), rows.partner.end());
-  old_row_of_id_.assign(static_cast<std::size_t>(p.max_id() + 1), -1);
-  for (std::size_t i = 0; i < n; ++i) old_row_of_id_[static_cast<std::size_t>(p.id[i])] = static_cast<int>(i);
+  old_row_of_id_.assign(p.size(), -1);
+  for (std::size_t k = 0; k <= n; ++k) old_offset_[k] = static_cast<int>(rows.offset[k]);
+  for (std::size_t k = 0; k < n; ++k) old_row_of_id_[static_cast<std::size_t>(stored_at[k])] = static_cast<int>(k);
   const std::size_t m = rows.partner.size();
+  old_partner_.resize(m);
   old_hx_.resize(m);
   old_hy_.resize(m);
   old_hz_.resize(m);
   for (std::size_t r = 0; r < m; ++r) {
+    // A partner no longer stored here is farther than the ghost width: its pair is not in the next list.
+    const auto it = index_of_id.find(rows.partner[r]);
+    old_partner_[r] = it == index_of_id.end() ? -1 : it->second;
     old_hx_[r] = rows.value[3 * r];
     old_hy_[r] = rows.value[3 * r + 1];
     old_hz_[r] = rows.value[3 * r + 2];
   }
+  by_index_ = true;
 }
 
 void ContactHistory::carry_over(const Particles& p, const NeighborList& list) {
@@ -152,14 +161,17 @@ void ContactHistory::carry_over(const Particles& p, const NeighborList& list) {
   const int known_ids = static_cast<int>(old_row_of_id_.size());
   const double *ohx = old_hx_.data(), *ohy = old_hy_.data(), *ohz = old_hz_.data();
   double *nhx = hx.data(), *nhy = hy.data(), *nhz = hz.data();
+  const int by_index = by_index_ ? 1 : 0;  // remember_rows(): particles keyed by storage index, not id
+  by_index_ = false;
   DEBRIS_RESIDENT(offset, index, id, old_offset, old_partner, row_of_id, ohx, ohy, ohz, nhx, nhy, nhz);
   // In a half list a pair sits in the row of whichever end has the lower index, which a re-sort can swap:
   // then the state is found in the partner's old row and seen from the other end (opposite sign).
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
-    const int r = id[i] < known_ids ? row_of_id[id[i]] : -1;  // -1: new since, or never listed
+    const std::int64_t key_i = by_index ? i : id[i];
+    const int r = key_i < known_ids ? row_of_id[key_i] : -1;  // -1: new since, or never listed
     for (int k = offset[i]; k < offset[i + 1]; ++k) {
-      const std::int64_t q = id[index[k]];
+      const std::int64_t q = by_index ? index[k] : id[index[k]];
       int found = -1;
       double sign = 1.0;
       if (r >= 0)
@@ -168,7 +180,7 @@ void ContactHistory::carry_over(const Particles& p, const NeighborList& list) {
       const int rq = q < known_ids ? row_of_id[q] : -1;
       if (found < 0 && rq >= 0) {
         for (int o = old_offset[rq]; o < old_offset[rq + 1] && found < 0; ++o)
-          if (old_partner[o] == id[i]) found = o;
+          if (old_partner[o] == key_i) found = o;
         sign = -1.0;
       }
       if (found >= 0) {

@@ -35,9 +35,12 @@ class ContactHistory {
   /// take it to whichever rank will own it. Host copies.
   void rows_seen_from(const Particles& p, const NeighborList& list, const unsigned char* keep,
                       comm::PairRows& rows) const;
-  /// In place of remember(): the rows of the first rows.offset.size() - 1 particles of `p` (as
-  /// rows_seen_from() gave them, after migration). carry_over() then finds a pair in the row of either end.
-  void remember_rows(const Particles& p, const comm::PairRows& rows);
+  /// In place of remember(), for a run cut among ranks: `rows` (as rows_seen_from() gave them, after
+  /// migration) belong to the particles now stored at `stored_at[k]` (row k) and name their partners by id.
+  /// Only the particles stored here can be partners in the next list, so the rows are looked up by storage
+  /// index: memory O(particles here), not O(largest id in the system). carry_over() then finds a pair in
+  /// the row of either end.
+  void remember_rows(const Particles& p, const comm::PairRows& rows, const std::vector<int>& stored_at);
 
   /// Transfer points (offload builds): the state, device -> host (checkpoints, analysis) or host -> device.
   void to_host() const;
@@ -50,6 +53,7 @@ class ContactHistory {
   exec::DeviceVector<std::int64_t> old_partner_;
   exec::DeviceVector<int> old_row_of_id_;
   exec::DeviceVector<double> old_hx_, old_hy_, old_hz_;
+  bool by_index_ = false;  // remember_rows(): old rows keyed by storage index, not by id
 };
 
 }  // namespace debris

@@ -49,7 +49,6 @@ void DemSimulation::rebuild_distributed() {
       std::fprintf(stderr, "error (rank %d): %s; is the time step stable?\n", comm::rank(), e.what());
       comm::abort(kExitUnfinished);
     }
-    history_.remember_rows(p_, rows);
     const std::size_t owned = p_.size();
     halo_.borders(decomposition_, box_, max_cutoff_ + skin_, p_, owned);
     // Owned particles and ghosts together in the order one process would store the whole system in.
@@ -58,7 +57,12 @@ void DemSimulation::rebuild_distributed() {
     p_.permute(order);
     halo_.permute(order);
     owned_.resize(p_.size());
-    for (std::size_t i = 0; i < p_.size(); ++i) owned_[i] = order[i] < static_cast<int>(owned) ? 1 : 0;
+    std::vector<int> stored_at(owned);  // where each owned particle (and its pair rows) went
+    for (std::size_t i = 0; i < p_.size(); ++i) {
+      owned_[i] = order[i] < static_cast<int>(owned) ? 1 : 0;
+      if (owned_[i]) stored_at[static_cast<std::size_t>(order[i])] = static_cast<int>(i);
+    }
+    history_.remember_rows(p_, rows, stored_at);
     ++layout_generation_;
   }
   const PassTimer timer(times_.neighbours);
