@@ -7,6 +7,7 @@
 #include <sstream>
 #include <string>
 
+#include "core/comm/communicator.hpp"
 #include "tests/cli_helpers.hpp"
 
 namespace debris {
@@ -61,6 +62,25 @@ TEST(CliHelp, EveryExecutableEndsWithAnExampleThatWorksFromTheRepositoryRoot) {
         "cd " + root.string() + " && " + x.exe, "-i " + e.input + " -o " + (scratch / x.program).string());
     EXPECT_EQ(r.exit_code, 0) << r.output;
     EXPECT_TRUE(fs::is_regular_file(scratch / x.program / "thermo.csv")) << r.output;
+  }
+}
+
+// Started as several processes by a launcher (its environment says so), an executable that runs as one
+// process (all five in a serial build) exits 2 before reading anything, the first process saying why.
+TEST(CliProcesses, EveryExecutableOfASerialBuildRefusesManyProcesses) {
+  if (comm::mpi_build()) GTEST_SKIP() << "an MPI build: tests/mpi runs debris_dem on ranks";
+  for (const char* exe : {DEBRIS_DEM_EXECUTABLE, DEBRIS_PERIDEM_EXECUTABLE, DEBRIS_PATCH_EXECUTABLE,
+                          DEBRIS_AMORPHOUS_EXECUTABLE, DEBRIS_RESTITUTION_EXECUTABLE}) {
+    SCOPED_TRACE(exe);
+    const test::CommandResult first =
+        test::run_command("OMPI_COMM_WORLD_SIZE=3 OMPI_COMM_WORLD_RANK=0 " + std::string(exe), "-i no_such_input.yaml");
+    EXPECT_EQ(first.exit_code, 2) << first.output;
+    EXPECT_NE(first.output.find("'mpirun -np' = 3"), std::string::npos) << first.output;
+    EXPECT_NE(first.output.find("built without MPI"), std::string::npos) << first.output;
+    const test::CommandResult other =
+        test::run_command("SLURM_NTASKS=3 SLURM_PROCID=2 " + std::string(exe), "-i no_such_input.yaml");
+    EXPECT_EQ(other.exit_code, 2) << other.output;
+    EXPECT_EQ(other.output, "") << "only the first process explains";
   }
 }
 

@@ -59,13 +59,23 @@ Session::~Session() {
   if (!ended) MPI_Finalize();
 }
 
+// A program that never started MPI (no Session: debris_patch, the Python module) is one process.
+bool running() {
+  int started = 0, ended = 0;
+  MPI_Initialized(&started);
+  MPI_Finalized(&ended);
+  return started && !ended;
+}
+
 int rank() {
+  if (!running()) return 0;
   int r = 0;
   MPI_Comm_rank(kWorld, &r);
   return r;
 }
 
 int size() {
+  if (!running()) return 1;
   int s = 1;
   MPI_Comm_size(kWorld, &s);
   return s;

@@ -32,6 +32,8 @@ class Session {
   bool owns_ = false;
 };
 
+/// This process's rank and the run's rank count: 0 and 1 where MPI was never started (a program without a
+/// Session, or a serial build).
 int rank();
 int size();
 

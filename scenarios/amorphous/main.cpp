@@ -207,6 +207,7 @@ int run(const Options& opt) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (const int status = debris::refuse_many_processes("debris_amorphous"); status >= 0) return status;
   CLI::App app{"debris_amorphous: relaxed amorphous samples of the cohesive DEM (Pham-Ba & Molinari section 3.2)"};
   Options opt;
   app.add_option("-i,--input", opt.input, "YAML input file")->required();

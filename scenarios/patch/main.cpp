@@ -174,6 +174,7 @@ int run(const Options& opt) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (const int status = debris::refuse_many_processes("debris_patch"); status >= 0) return status;
   CLI::App app{
       "debris_patch: patch tests of the cohesive DEM (Pham-Ba & Molinari, section 3): elastic constants "
       "and strengths of HCP lattices and amorphous samples"};

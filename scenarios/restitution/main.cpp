@@ -64,6 +64,7 @@ int run(const std::string& input, const std::string& output, int threads) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (const int status = debris::refuse_many_processes("debris_restitution"); status >= 0) return status;
   CLI::App app{"debris_restitution: PeriDEM two-particle drop tests (paper B, section 4.1)"};
   std::string input, output = "out_restitution";
   int threads = 0;

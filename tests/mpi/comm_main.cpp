@@ -28,6 +28,12 @@ class RankFailurePrinter : public ::testing::EmptyTestEventListener {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Before MPI starts, a program is one process: what debris_patch, debris_amorphous and the Python module,
+  // which never start MPI, see in an MPI build (MPI itself refuses MPI_Comm_size before MPI_Init).
+  if (debris::comm::rank() != 0 || debris::comm::size() != 1) {
+    std::cerr << "comm::rank() / size() before MPI starts: not 0 / 1" << std::endl;
+    return 1;
+  }
   debris::comm::Session mpi(&argc, &argv);
   ::testing::InitGoogleTest(&argc, argv);
   const int rank = debris::comm::rank();

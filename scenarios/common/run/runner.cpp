@@ -416,27 +416,6 @@ void continue_beside_checkpoint(RunPlan& plan, const RunOptions& options) {
   plan.directory = parent.empty() ? "." : parent.string();
 }
 
-namespace {
-// Started by mpirun in a serial build, each of the N copies would run the whole input and write the same
-// files; an MPI build runs a program cut among ranks only where its model does (debris_dem; PeriDEM's
-// grains come with issue 27). Otherwise: exit 2 on every process before anything is written, the first one
-// saying why. -1: go on.
-int refuse_many_processes(const std::string& program, bool runs_on_ranks) {
-  const int n = comm::mpi_build() ? comm::size() : comm::launched_processes();
-  if (n <= 1 || (comm::mpi_build() && runs_on_ranks)) return -1;
-  if ((comm::mpi_build() ? comm::rank() : comm::launched_rank()) == 0) {
-    std::cerr << program << ": input error: 'mpirun -np' = " << n << ": ";
-    if (comm::mpi_build())
-      std::cerr << "this MPI build does not distribute " << program << "'s runs yet; run it as one process\n";
-    else
-      std::cerr << "this debris was built without MPI (DEBRIS_MPI=OFF), so each of the " << n
-                << " processes would run the whole input and write the same files; run it as one process "
-                   "(without mpirun)\n";
-  }
-  return kExitInput;
-}
-}  // namespace
-
 int run_main(int argc, char** argv, const std::string& program, const std::string& description,
              const std::string& example, const std::function<RunPlan(const RunOptions&)>& prepare,
              bool runs_on_ranks) {
