@@ -1,8 +1,8 @@
 // DemSimulation cut among MPI ranks (shared/design/scale-mpi.md): the set-up that keeps a rank's own
 // particles, the rebuild that migrates them with their pair state and lays the ghosts around them, and the
-// two ways between a distributed run and the whole system as one process holds it: whole_system() gathers
-// that on rank 0 (for frames, checkpoints, the wear analysis), and a run restored from such a checkpoint
-// on any rank count replays the last rebuild on its own ranks (distribute_restored()).
+// two ways between a distributed run and the whole system as one process holds it: with_whole_system()
+// gathers that on rank 0 (for frames, checkpoints, the wear analysis), and a run restored from such a
+// checkpoint on any rank count replays the last rebuild on its own ranks (distribute_restored()).
 #include <algorithm>
 #include <cstdio>
 #include <numeric>
@@ -72,7 +72,6 @@ void DemSimulation::rebuild_distributed() {
   if (pass_ == PairPass::half) index_half_pass();
   ++times_.rebuilds;
 }
-
 
 namespace {
 // A neighbour list and its pair state put together row by row (the whole system's from the ranks' rows, or a
