@@ -7,7 +7,7 @@
 # same, the HDF5 trajectory (every particle of every frame) and the final checkpoint dataset for dataset
 # (h5diff, from hdf5-tools); a checkpoint written on 4 ranks continues on 2, and one written on 1 on 3, to the same thermo.csv
 # and wear.csv. The whole default run on 2 ranks: the same files and wear verdict. Bad input on 3 ranks:
-# one message, exit 2, nothing written.
+# one message, exit 2, nothing written. A run that blows up: the same health-check stop on 1 and 3 ranks.
 #   dem_on_ranks.sh <mpirun> <debris_dem> <source dir> <work dir>
 set -euo pipefail
 mpirun=$1 dem=$2 src=$3 work=$4
@@ -25,6 +25,7 @@ sed -e "s|lammps_data: ../wear/data/|lammps_data: $src/scenarios/wear/data/|" -e
 grep -q 'steps: 3000' full.yaml && grep -q 'checkpoint_every: 1500' full.yaml || { echo "default.yaml changed: update $0"; exit 1; }
 sed -e 's|steps: 3000|steps: 1500|' full.yaml > half.yaml
 sed -e 's|poisson_ratio: 0.17|poisson_ratio: 0.4|' full.yaml > bad.yaml
+sed -e 's|time_step: 80 fs |time_step: 2 ps\n  allow_unstable_time_step: true\n |' full.yaml > unstable.yaml
 
 failed=0
 same() {  # same <file a> <file b> <what>
@@ -70,4 +71,16 @@ set -e
 [ "$status" = 2 ] || { echo "bad input on 3 ranks: exit $status, not 2"; failed=1; }
 [ "$(grep -c "input error: 'material.poisson_ratio' = 0.4" bad.err)" = 1 ] || { echo "bad input: not one message"; cat bad.err; failed=1; }
 [ ! -e bad ] || { echo "bad input wrote bad/"; failed=1; }
+# A run that blows up (25 times the input's time step): the health check stops it at the same step with the
+# same message on 1 and 3 ranks (the lowest rank that finds the pair reports it), exit 3 on every rank.
+for np in 1 3; do
+  set +e
+  run $np -i unstable.yaml -o unstable$np > unstable$np.out 2> unstable$np.err
+  status=$?
+  set -e
+  [ "$status" = 3 ] || { echo "unstable run on $np ranks: exit $status, not 3"; failed=1; }
+  grep "stopped: exploding overlap at step" unstable$np.err > unstable$np.stop || true
+  [ "$(wc -l < unstable$np.stop)" = 1 ] || { echo "unstable run on $np ranks: not one stop message"; cat unstable$np.err; failed=1; }
+done
+same unstable1.stop unstable3.stop "the health check's stop on 3 ranks"
 exit $failed
