@@ -1,8 +1,5 @@
 #include "core/groups.hpp"
 
-#include <cstdint>
-
-#include "core/comm/communicator.hpp"
 #include "core/comm/exact_sum.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
@@ -33,24 +30,17 @@ int Groups::find(const std::string& name) const {
   return -1;
 }
 
-void Groups::refresh_members(const Particles& p, SumScope scope) {
-  // Exact sums (host side, at set-up): the group masses are the same bits on any order or rank count.
-  std::vector<std::int64_t> count(list.size(), 0);
+void Groups::refresh_members(const Particles& p) {
+  // Exact sums (host side, at set-up): the group masses are the same bits in any storage order.
   std::vector<comm::ExactSum> mass(list.size());
+  for (auto& g : list) g.count = 0;
   for (std::size_t i = 0; i < p.size(); ++i) {
     const int g = p.group[i];
-    if (g < 0 || (scope.owned && !scope.owned[i])) continue;
-    count[static_cast<std::size_t>(g)] += 1;
+    if (g < 0) continue;
+    list[static_cast<std::size_t>(g)].count += 1;
     mass[static_cast<std::size_t>(g)].add(p.mass[i]);
   }
-  if (scope.across_ranks && !list.empty()) {
-    comm::allreduce_sum(count.data(), static_cast<int>(count.size()));
-    comm::allreduce(mass.data(), static_cast<int>(mass.size()));
-  }
-  for (std::size_t g = 0; g < list.size(); ++g) {
-    list[g].count = static_cast<long>(count[g]);
-    list[g].mass = mass[g].value();
-  }
+  for (std::size_t g = 0; g < list.size(); ++g) list[g].mass = mass[g].value();
 }
 
 Groups::View Groups::view() {

@@ -66,9 +66,9 @@ class Groups {
   int find(const std::string& name) const;
   std::size_t size() const { return list.size(); }
 
-  /// Recounts members and their mass (after particles were assigned or masses changed). `scope`: the
-  /// particles counted and whether every rank's are added (core/block_sums.hpp); the same for the sums below.
-  void refresh_members(const Particles& p, SumScope scope = {});
+  /// Recounts members and their mass (after particles were assigned or masses changed; a run cut among ranks
+  /// counts them before it keeps its own particles).
+  void refresh_members(const Particles& p);
 
   /// Kernel view: motion mode and rigid velocity per group, copied out of `list` before each pass.
   struct View {
@@ -77,7 +77,8 @@ class Groups {
   };
   View view();
 
-  /// Sums the current forces of each group's members into Group::reaction (fixed-order blocks).
+  /// Sums the current forces of each group's members into Group::reaction (fixed-order blocks). `scope`:
+  /// the particles counted and whether every rank's are added (core/block_sums.hpp); the same below.
   void measure_reactions(const Particles& p, SumScope scope = {});
 
   /// Adds each group's centre-of-mass velocity times dt to its displacement (call after the drift).

@@ -273,7 +273,8 @@ CohesiveDiagnostics DemSimulation::diagnostics() const {
 }
 
 double DemSimulation::smallest_radius() const {
-  particles_to_host();
+  particles_to_host();  // the radii (a re-sort leaves the host's copies stale)
+  // A rank may hold no particle at all (a sparse system cut among many ranks).
   double r = p_.size() ? *std::min_element(p_.radius.begin(), p_.radius.end()) : HUGE_VAL;
   if (distributed_) comm::allreduce_min(&r, 1);
   return r;
@@ -307,10 +308,7 @@ std::string DemSimulation::health_check(const CohesiveDiagnostics& diag, double 
 }
 
 std::string DemSimulation::local_health_check(const CohesiveDiagnostics& diag, double overlap_limit) const {
-  particles_to_host();  // the radii (a re-sort leaves the host's copies stale)
-  // A rank may hold no particle at all (a sparse system cut among many ranks).
-  double r_min = p_.size() ? *std::min_element(p_.radius.begin(), p_.radius.end()) : HUGE_VAL;
-  if (distributed_) comm::allreduce_min(&r_min, 1);  // collective: before any rank returns
+  const double r_min = smallest_radius();  // collective: before any rank returns
   particles_to_device();
   const long bad = first_non_finite(p_);
   if (bad >= 0) {
