@@ -22,6 +22,7 @@
 #include "core/comm/communicator.hpp"
 #include "core/lattice.hpp"
 #include "scenarios/common/dem/dem_simulation.hpp"
+#include "tests/mpi/cohesive_block.hpp"
 #include "tests/mpi/rank_grids.hpp"
 
 namespace debris::comm {
@@ -41,15 +42,8 @@ struct Sample {
 // walls (`walls` false): periodic on every axis, every particle drifting along (1, 0.8, 0.6) at
 // `slide_per_step` a step, so that particles cross every cut.
 Sample sheared_sample(double slide_per_step, double kick, bool walls = true) {
-  LatticeSpec spec;
-  spec.kind = LatticeKind::fcc;
-  spec.spacing = 100;
-  spec.diameter = 100;
-  spec.size_spread = 0.02;  // every pair its own constants
-  spec.displacement = 0.3;
-  spec.cells = {12, 8, 8};  // 3,072 particles: 4 ranks fit along x, 3 along y or z
-  spec.seed = 5;
-  const Lattice lat = make_lattice(spec);
+  // 3,072 particles: 4 ranks fit along x, 3 along y or z.
+  const Lattice lat = test::cohesive_block({12, 8, 8}, 5);
   Sample s;
   s.box = Box(lat.box.lo(), lat.box.hi(), {true, !walls, true});
   s.particles = lat.particles;
@@ -75,7 +69,7 @@ Sample sheared_sample(double slide_per_step, double kick, bool walls = true) {
   lid.prescribed = {true, false, true};
   long lid_count = 0;
   for (std::size_t i = 0; i < s.particles.size(); ++i) lid_count += s.particles.y[i] > y_hi - 120;
-  lid.external_force = {0, -0.002 * pp.k_n * spec.spacing * static_cast<double>(lid_count) / 12, 0};
+  lid.external_force = {0, -0.002 * pp.k_n * 100.0 * static_cast<double>(lid_count) / 12, 0};
   const int gf = walls ? s.groups.add(floor) : -1, gl = walls ? s.groups.add(lid) : -1;
   std::mt19937_64 rng(17);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

@@ -26,6 +26,7 @@
 #include "core/lattice.hpp"
 #include "core/neighbor_list.hpp"
 #include "core/particles.hpp"
+#include "tests/mpi/cohesive_block.hpp"
 #include "tests/mpi/rank_grids.hpp"
 #include "kernels/dem/cohesive_contact_half.hpp"
 #include "kernels/dem/cohesive_material.hpp"
@@ -59,15 +60,8 @@ TEST(DistributedForces, OwnedParticlesGetTheSerialBitsAtEveryStep) {
   // The host pass on host arrays: the distributed step on a device (its own packing, the full list) is the
   // sketch's step S2.
   if (exec::offload_build()) GTEST_SKIP() << "host-side halo and half-list pass; offload builds come with MPI step S2";
-  LatticeSpec spec;
-  spec.kind = LatticeKind::fcc;
-  spec.spacing = 100;
-  spec.diameter = 100;
-  spec.size_spread = 0.02;  // every pair its own constants
-  spec.displacement = 0.3;
-  spec.cells = {12, 12, 12};  // 6,912 particles: 4 subdomains of at least twice the ghost width on x
-  spec.seed = 3;
-  const Lattice lat = make_lattice(spec);
+  // 6,912 particles: 4 subdomains of at least twice the ghost width on x.
+  const Lattice lat = test::cohesive_block({12, 12, 12}, 3);
   CohesiveMaterial material = table4_material(0.0);
   material.restitution = 0.9;
   const CohesiveCoefficients coef = CohesiveCoefficients::from(material);
