@@ -201,6 +201,38 @@ TEST(TrajectoryHdf5, UnlinkedGroupAppearsOnlyWhenLinked) {
   EXPECT_EQ(f.open_group("frames/0").attribute<std::int64_t>("step"), 7);
 }
 
+// write_rows on one process (tests/mpi writes one dataset from several ranks): every row, in order, or a
+// named error before anything is created.
+TEST(TrajectoryHdf5, WriteRowsTakesEveryRowInOrderOrSaysWhy) {
+  const std::string path = fresh_dir("debris_h5_rows") + "/r.h5";
+  h5::File f(path, h5::File::Mode::create);
+  const std::vector<std::int64_t> rows{0, 1, 2};
+  f.write_rows<double>("xyz", std::vector<double>{0, 1, 2, 10, 11, 12, 20, 21, 22}, rows, {3, 3});
+  f.write_rows<std::int32_t>("k", std::vector<std::int32_t>{7, 8, 9}, rows, {3});
+  f.write_rows<double>("none", std::vector<double>{}, std::vector<std::int64_t>{}, {0, 3});
+  EXPECT_EQ(f.read<double>("xyz").values, (std::vector<double>{0, 1, 2, 10, 11, 12, 20, 21, 22}));
+  EXPECT_EQ(f.read<double>("xyz").shape, (h5::Shape{3, 3}));
+  EXPECT_EQ(f.read<std::int32_t>("k").values, (std::vector<std::int32_t>{7, 8, 9}));
+  EXPECT_EQ(f.read<double>("none").shape, (h5::Shape{0, 3}));
+
+  const std::vector<double> two_rows{1, 2, 3, 4, 5, 6};
+  auto expect_error = [&](const char* name, std::vector<std::int64_t> rows, h5::Shape shape, const std::string& text) {
+    std::string what = "no error";
+    try {
+      f.write_rows<double>(name, two_rows, rows, shape);
+    } catch (const std::exception& e) {
+      what = e.what();
+    }
+    EXPECT_NE(what.find(text), std::string::npos) << what;
+  };
+  expect_error("a", {1, 0}, {2, 3}, "row 0 is out of order");
+  expect_error("b", {0, 2}, {2, 3}, "row 2 is out of order or beyond the 2 rows");
+  expect_error("c", {0}, {2, 3}, "6 values are not 1 rows of 3");
+  expect_error("d", {0, 1}, {3, 3}, "2 rows given for 3");
+  expect_error("e", {0, 1}, {}, "a scalar has no rows");
+  for (const char* name : {"a", "b", "c", "d", "e"}) EXPECT_FALSE(f.has(name)) << name;
+}
+
 TEST(TrajectoryHdf5, WriterWithoutLockingOpensAFileAReaderHolds) {
   const std::string path = fresh_dir("debris_h5_lock") + "/l.h5";
   h5::File(path, h5::File::Mode::create).write("a", std::vector<double>{1});

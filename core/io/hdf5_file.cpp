@@ -2,6 +2,9 @@
 
 #include <hdf5.h>
 
+#include "core/comm/communicator.hpp"
+#include "core/comm/parallel_hdf5.hpp"
+
 #include <algorithm>
 #include <cstring>
 #include <functional>
@@ -269,7 +272,7 @@ Group Location::create_group(const std::string& name, const GroupOptions& option
   if (!gcpl.valid()) fail("cannot set up group", child_path(name), file_);
   Handle g(H5Gcreate2(id(), name.c_str(), lcpl.id(), gcpl.id(), H5P_DEFAULT), H5Gclose);
   if (!g.valid()) fail("cannot create group", child_path(name), file_);
-  return Group(std::move(g), file_, child_path(name));
+  return Group(std::move(g), file_, child_path(name), all_ranks_);
 }
 
 Group Location::create_unlinked_group(const GroupOptions& options) {
@@ -278,7 +281,7 @@ Group Location::create_unlinked_group(const GroupOptions& options) {
   if (!gcpl.valid()) fail("cannot set up an unlinked group in", path_, file_);
   Handle g(H5Gcreate_anon(id(), gcpl.id(), H5P_DEFAULT), H5Gclose);
   if (!g.valid()) fail("cannot create an unlinked group in", path_, file_);
-  return Group(std::move(g), file_, "(unlinked group)");
+  return Group(std::move(g), file_, "(unlinked group)", all_ranks_);
 }
 
 void Location::link(const Location& object, const std::string& name) {
@@ -291,7 +294,7 @@ Group Location::open_group(const std::string& name) const {
   quiet();
   Handle g(H5Gopen2(id(), name.c_str(), H5P_DEFAULT), H5Gclose);
   if (!g.valid()) fail("cannot open group", child_path(name), file_);
-  return Group(std::move(g), file_, child_path(name));
+  return Group(std::move(g), file_, child_path(name), all_ranks_);
 }
 
 bool Location::has(const std::string& name) const {
@@ -352,12 +355,73 @@ void Location::write(const std::string& name, std::span<const T> values, const S
                                 std::to_string(values.size()) + " values do not fill the shape given");
   }
   const Dataspace space = shape.empty() ? Dataspace::scalar() : Dataspace::simple(shape);
-  const Handle lcpl = intermediate_lcpl();
-  Handle d(H5Dcreate2(id(), name.c_str(), file_type<T>(), space.id(), lcpl.id(), H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
+  const Handle lcpl = intermediate_lcpl(), dcpl = dataset_creation();
+  Handle d(H5Dcreate2(id(), name.c_str(), file_type<T>(), space.id(), lcpl.id(), dcpl.id(), H5P_DEFAULT), H5Dclose);
   if (!d.valid()) fail("cannot create dataset", object, file_);
-  if (!values.empty() && H5Dwrite(d.id(), memory_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) < 0) {
+  if (writes_whole() && !values.empty() &&
+      H5Dwrite(d.id(), memory_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) < 0) {
     fail("cannot write dataset", object, file_);
   }
+  if (!d.reset()) fail("cannot close dataset", object, file_);
+}
+
+Handle Location::dataset_creation() const {
+  Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  if (!dcpl.valid() || (all_ranks_ && H5Pset_fill_time(dcpl.id(), H5D_FILL_TIME_NEVER) < 0))
+    throw std::runtime_error("HDF5: cannot make a dataset creation property list: " + reason());
+  return dcpl;
+}
+
+bool Location::writes_whole() const { return !all_ranks_ || comm::rank() == 0; }
+
+template <Element T>
+void Location::write_rows(const std::string& name, std::span<const T> values, std::span<const std::int64_t> rows,
+                          const Shape& shape) {
+  quiet();
+  const std::string object = child_path(name);
+  if (shape.empty()) throw std::invalid_argument("HDF5: writing rows of '" + object + "': a scalar has no rows");
+  const std::size_t width = product(Shape(shape.begin() + 1, shape.end()));
+  if (values.size() != rows.size() * width) {
+    throw std::invalid_argument("HDF5: writing rows of '" + object + "' in file '" + file_ + "': " +
+                                std::to_string(values.size()) + " values are not " + std::to_string(rows.size()) +
+                                " rows of " + std::to_string(width));
+  }
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    if (rows[k] < 0 || static_cast<std::size_t>(rows[k]) >= shape[0] || (k > 0 && rows[k] <= rows[k - 1]))
+      throw std::invalid_argument("HDF5: writing rows of '" + object + "': row " + std::to_string(rows[k]) +
+                                  " is out of order or beyond the " + std::to_string(shape[0]) + " rows");
+  // Every row once: a row left out would hold whatever the disk held (no fill value is written).
+  std::int64_t covered = static_cast<std::int64_t>(rows.size());
+  if (all_ranks_) comm::allreduce_sum(&covered, 1);
+  if (covered != static_cast<std::int64_t>(shape[0]))
+    throw std::logic_error("HDF5: writing rows of '" + object + "' in file '" + file_ + "': " +
+                           std::to_string(covered) + " rows given for " + std::to_string(shape[0]));
+
+  const Dataspace space = Dataspace::simple(shape);
+  const Handle lcpl = intermediate_lcpl(), dcpl = dataset_creation();
+  Handle d(H5Dcreate2(id(), name.c_str(), file_type<T>(), space.id(), lcpl.id(), dcpl.id(), H5P_DEFAULT), H5Dclose);
+  if (!d.valid()) fail("cannot create dataset", object, file_);
+  // The rows as blocks of consecutive rows, whole rows each; the values in memory follow in the same order.
+  std::vector<hsize_t> start(shape.size(), 0), count(shape.size(), 1), block(shape.begin(), shape.end());
+  if (H5Sselect_none(space.id()) < 0) fail("cannot select rows of", object, file_);
+  for (std::size_t k = 0; k < rows.size();) {
+    std::size_t end = k + 1;
+    while (end < rows.size() && rows[end] == rows[end - 1] + 1) ++end;
+    start[0] = static_cast<hsize_t>(rows[k]);
+    block[0] = static_cast<hsize_t>(end - k);
+    if (H5Sselect_hyperslab(space.id(), H5S_SELECT_OR, start.data(), nullptr, count.data(), block.data()) < 0)
+      fail("cannot select rows of", object, file_);
+    k = end;
+  }
+  const Dataspace memory = Dataspace::simple({std::max<std::size_t>(values.size(), 1)});
+  if (values.empty() && H5Sselect_none(memory.id()) < 0) fail("cannot select rows of", object, file_);
+  Handle dxpl(H5Pcreate(H5P_DATASET_XFER), H5Pclose);
+  if (!dxpl.valid()) fail("cannot make a transfer property list for", object, file_);
+  const bool together = all_ranks_ && comm::hdf5_collective_transfer(dxpl.id());
+  // Collective: every rank writes, those without rows too; alone, nothing to write is nothing to do.
+  if ((together || !values.empty()) &&
+      H5Dwrite(d.id(), memory_type<T>(), memory.id(), space.id(), dxpl.id(), values.data()) < 0)
+    fail("cannot write rows of", object, file_);
   if (!d.reset()) fail("cannot close dataset", object, file_);
 }
 
@@ -376,11 +440,11 @@ void Location::write_string(const std::string& name, const std::string& text) {
   const std::string object = child_path(name);
   const Handle type = string_type(text.size());
   const Dataspace space = Dataspace::scalar();
-  const Handle lcpl = intermediate_lcpl();
-  Handle d(H5Dcreate2(id(), name.c_str(), type.id(), space.id(), lcpl.id(), H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
+  const Handle lcpl = intermediate_lcpl(), dcpl = dataset_creation();
+  Handle d(H5Dcreate2(id(), name.c_str(), type.id(), space.id(), lcpl.id(), dcpl.id(), H5P_DEFAULT), H5Dclose);
   if (!d.valid()) fail("cannot create dataset", object, file_);
   const std::vector<char> buf = pack({text}, text.size() + 1);
-  if (H5Dwrite(d.id(), type.id(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data()) < 0) fail("cannot write dataset", object, file_);
+  if (writes_whole() && H5Dwrite(d.id(), type.id(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data()) < 0) fail("cannot write dataset", object, file_);
   if (!d.reset()) fail("cannot close dataset", object, file_);
 }
 
@@ -390,11 +454,11 @@ void Location::write_strings(const std::string& name, const std::vector<std::str
   const std::size_t width = longest(texts) + 1;
   const Handle type = string_type(width - 1);
   const Dataspace space = Dataspace::simple({texts.size()});
-  const Handle lcpl = intermediate_lcpl();
-  Handle d(H5Dcreate2(id(), name.c_str(), type.id(), space.id(), lcpl.id(), H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
+  const Handle lcpl = intermediate_lcpl(), dcpl = dataset_creation();
+  Handle d(H5Dcreate2(id(), name.c_str(), type.id(), space.id(), lcpl.id(), dcpl.id(), H5P_DEFAULT), H5Dclose);
   if (!d.valid()) fail("cannot create dataset", object, file_);
   const std::vector<char> buf = pack(texts, width);
-  if (!texts.empty() && H5Dwrite(d.id(), type.id(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data()) < 0) {
+  if (writes_whole() && !texts.empty() && H5Dwrite(d.id(), type.id(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data()) < 0) {
     fail("cannot write dataset", object, file_);
   }
   if (!d.reset()) fail("cannot close dataset", object, file_);
@@ -502,13 +566,14 @@ std::string Location::string_attribute(const std::string& name) const {
 
 // ---- File ----
 
-File::File(const std::string& path, Mode mode, FileOptions options) : Location(Handle(), path, "/") {
+File::File(const std::string& path, Mode mode, FileOptions options) : Location(Handle(), path, "/", false) {
   quiet();
   Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose), fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
   if (!fapl.valid() || !fcpl.valid() || (!options.file_locking && H5Pset_file_locking(fapl.id(), 0, 1) < 0) ||
       (options.group_leaf_k > 0 && H5Pset_sym_k(fcpl.id(), 0, options.group_leaf_k) < 0)) {
     throw std::runtime_error("HDF5: cannot set up access to file '" + path + "': " + reason());
   }
+  if (options.all_ranks) all_ranks_ = comm::hdf5_access_on_all_ranks(fapl.id());
   hid_t f = -1;
   switch (mode) {
     case Mode::create: f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.id(), fapl.id()); break;
@@ -542,6 +607,8 @@ void File::close() {
 #define DEBRIS_H5_INSTANTIATE(T)                                                                \
   template Array<T> Dataset::read<T>() const;                                                   \
   template void Location::write<T>(const std::string&, std::span<const T>, const Shape&);       \
+  template void Location::write_rows<T>(const std::string&, std::span<const T>, std::span<const std::int64_t>, \
+                                        const Shape&);                                          \
   template T Location::read_scalar<T>(const std::string&) const;                                \
   template void Location::set_attribute_array<T>(const std::string&, std::span<const T>, const Shape&); \
   template std::vector<T> Location::attribute_array<T>(const std::string&) const;               \

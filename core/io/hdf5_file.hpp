@@ -5,6 +5,11 @@
 // that names the file, the object and HDF5's own reason. HDF5's automatic printing of its error stack to
 // stderr is switched off inside this layer, since the exception carries the message instead.
 //
+// A file opened with FileOptions::all_ranks is one file of every rank of an MPI run (MPI-IO). Every rank
+// then makes the same calls with the same arguments (creating groups and datasets, attributes, links,
+// flush, close), and write() / write_strings() store rank 0's values; write_rows() is how each rank stores
+// its own rows of one dataset (collective). In a serial build or on one rank the option changes nothing.
+//
 // Files use HDF5's default (oldest) format on purpose: the 1.10 "latest" format marks a file as open for
 // writing in its superblock, and after a killed run every reader then refuses it until `h5clear -s`.
 #include <concepts>
@@ -135,6 +140,15 @@ class Location {
     write(name, std::span<const T>(&value, 1), Shape{});
   }
 
+  /// This process's rows of a new dataset of `shape` (shape[0] rows, each of the product of the other
+  /// dimensions): `values` holds rows.size() of them, row-major, for the rows `rows` (strictly increasing).
+  /// In a file of all ranks every rank calls it (collective) with the same name and shape, and the ranks'
+  /// rows together must be every row once; elsewhere `rows` must be every row. std::logic_error if they
+  /// are not (the count is checked, on every rank alike), std::invalid_argument for sizes that do not fit.
+  template <Element T>
+  void write_rows(const std::string& name, std::span<const T> values, std::span<const std::int64_t> rows,
+                  const Shape& shape);
+
   template <Element T>
   Array<T> read(const std::string& name) const {
     return open_dataset(name).read<T>();
@@ -168,12 +182,19 @@ class Location {
   std::string string_attribute(const std::string& name) const;
 
  protected:
-  Location(Handle h, std::string file, std::string path) : h_(std::move(h)), file_(std::move(file)), path_(std::move(path)) {}
+  Location(Handle h, std::string file, std::string path, bool all_ranks)
+      : h_(std::move(h)), file_(std::move(file)), path_(std::move(path)), all_ranks_(all_ranks) {}
+  /// A dataset's creation properties: in a file of all ranks its space is allocated at creation (HDF5's
+  /// rule there) and never filled, since every value is written.
+  Handle dataset_creation() const;
+  /// Whether this process writes the values of a whole-dataset write (rank 0 in a file of all ranks).
+  bool writes_whole() const;
   /// Absolute path of `name` below this object, for messages and for Dataset.
   std::string child_path(const std::string& name) const;
 
   Handle h_;
   std::string file_, path_;
+  bool all_ranks_ = false;  // a file of every rank of the run (MPI-IO), not only in name
 
  private:
   template <Element T>
@@ -192,6 +213,9 @@ struct FileOptions {
   /// At creation: members per group index leaf is twice this (HDF5's sym_k "lk"; 0 keeps its 4). Larger
   /// leaves split less often as a group grows to thousands of members.
   unsigned group_leaf_k = 0;
+  /// Every rank of an MPI run opens the file together (see the top of this header). Nothing changes in a
+  /// serial build or a run of one rank.
+  bool all_ranks = false;
 };
 
 class File : public Location {
@@ -204,6 +228,8 @@ class File : public Location {
 
   /// Writes every cached change to the file (H5Fflush).
   void flush();
+  /// Whether every rank of an MPI run holds this file open together (all_ranks on more than one rank).
+  bool on_all_ranks() const { return all_ranks_; }
   /// Closes the file and checks it really closed: std::logic_error if a group, dataset or attribute
   /// opened from it is still alive (HDF5 would keep the file open until that object goes).
   void close();
