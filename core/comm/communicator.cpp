@@ -139,6 +139,27 @@ std::vector<std::vector<char>> gather_to_root(const std::vector<char>& mine) {
   return out;
 }
 
+std::vector<std::vector<char>> gather_to_all(const std::vector<char>& mine) {
+  const int n = size();
+  std::int64_t bytes = static_cast<std::int64_t>(mine.size());
+  std::vector<std::int64_t> sizes(static_cast<std::size_t>(n));
+  MPI_Allgather(&bytes, 1, MPI_INT64_T, sizes.data(), 1, MPI_INT64_T, kWorld);
+  std::vector<int> counts, displs;
+  std::size_t total = 0;
+  for (const std::int64_t b : sizes) {
+    counts.push_back(count_of(static_cast<std::size_t>(b)));
+    displs.push_back(count_of(total));
+    total += static_cast<std::size_t>(b);
+  }
+  std::vector<char> all(total);
+  MPI_Allgatherv(mine.data(), count_of(mine.size()), MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE,
+                 kWorld);
+  std::vector<std::vector<char>> out;
+  for (std::size_t r = 0; r < static_cast<std::size_t>(n); ++r)
+    out.emplace_back(all.begin() + displs[r], all.begin() + displs[r] + counts[r]);
+  return out;
+}
+
 void sendrecv(const std::vector<char>& out, int to, std::vector<char>& in, int from, int tag) {
   if (to < 0) to = MPI_PROC_NULL;
   if (from < 0) from = MPI_PROC_NULL;
@@ -168,6 +189,7 @@ void allreduce_max(double*, int) {}
 void allreduce_min(double*, int) {}
 std::string first_message(const std::string& mine) { return mine; }
 std::vector<std::vector<char>> gather_to_root(const std::vector<char>& mine) { return {mine}; }
+std::vector<std::vector<char>> gather_to_all(const std::vector<char>& mine) { return {mine}; }
 
 void sendrecv(const std::vector<char>& out, int to, std::vector<char>& in, int from, int) {
   if (to > 0 || from > 0) throw std::logic_error("comm: a serial build has rank 0 only");

@@ -63,6 +63,8 @@ std::string first_message(const std::string& mine);
 
 /// Every rank's `mine`, on rank 0 in rank order (other ranks get an empty list). Collective.
 std::vector<std::vector<char>> gather_to_root(const std::vector<char>& mine);
+/// Every rank's `mine`, on every rank, in rank order. Collective.
+std::vector<std::vector<char>> gather_to_all(const std::vector<char>& mine);
 
 /// Sends `out` to rank `to` and receives what rank `from` sends to this rank with the same tag (sizes
 /// travel first, so the receiver need not know them). A rank of -1 means none (nothing is sent, or `in`

@@ -97,6 +97,20 @@ void Halo::forward(Particles& p) const {
   }
 }
 
+void Halo::forward_values(std::vector<double>& column) const {
+  if (column.size() != owned_ + shift_.size()) throw std::logic_error("Halo::forward_values: not one value per particle");
+  std::vector<double> out, in;
+  for (const Swap& s : swaps_) {
+    out.clear();
+    for (const int i : s.send) out.push_back(column[static_cast<std::size_t>(i)]);
+    in.resize(s.count);
+    sendrecv_sized(reinterpret_cast<const char*>(out.data()), out.size() * sizeof(double), s.to,
+                   reinterpret_cast<char*>(in.data()), in.size() * sizeof(double), s.from, s.tag);
+    const int* slot = ghost_index_.data() + (s.first - owned_);
+    for (std::size_t k = 0; k < s.count; ++k) column[static_cast<std::size_t>(slot[k])] = in[k];
+  }
+}
+
 void Halo::permute(const std::vector<int>& order) {
   if (order.size() != owned_ + shift_.size()) throw std::logic_error("Halo::permute: not an order of all particles");
   std::vector<int> now(order.size());

@@ -32,6 +32,9 @@ class Halo {
   void borders(const Decomposition& d, const Box& box, double width, Particles& p, std::size_t n_owned);
   /// x, y, z, v and omega of every sent particle again, into the same ghost slots (between rebuilds).
   void forward(Particles& p) const;
+  /// One more value per particle (`column`, as long as the particles), sent from each owner to its ghosts'
+  /// slots over the same lists (e.g. where each particle stands in the whole system, for a checkpoint).
+  void forward_values(std::vector<double>& column) const;
   /// Follows a reordering of all the particles (owned and ghosts) after borders(): new index i holds the
   /// particle that was at order[i]. The send lists and ghost slots move with them, so forward() still fills
   /// the right slots (a rank stores owned particles and ghosts together in the canonical order).

@@ -3,22 +3,27 @@
 #include <algorithm>
 #include <cstdint>
 #include <numeric>
+#include <span>
 #include <stdexcept>
 
+#include "core/comm/communicator.hpp"
 #include "core/error.hpp"
 #include "core/io/hdf5_file.hpp"
 #include "core/io/xdmf.hpp"
 
 namespace debris {
 
-TrajectoryWriter::TrajectoryWriter(const std::string& dir, const std::string& stem, std::vector<std::string> group_names)
+TrajectoryWriter::TrajectoryWriter(const std::string& dir, const std::string& stem, std::vector<std::string> group_names,
+                                   bool all_ranks)
     : h5_name_(stem + ".h5"),
       h5_path_(dir + "/" + stem + ".h5"),
       xmf_path_(dir + "/" + stem + ".xmf"),
-      group_names_(std::move(group_names)) {
+      group_names_(std::move(group_names)),
+      all_ranks_(all_ranks) {
   xdmf::check_stem(stem);
   try {
-    h5::File file(h5_path_, h5::File::Mode::create, {.file_locking = false, .group_leaf_k = xdmf::kFramesPerLeaf / 2});
+    h5::File file(h5_path_, h5::File::Mode::create,
+                  {.file_locking = false, .group_leaf_k = xdmf::kFramesPerLeaf / 2, .all_ranks = all_ranks_});
     file.set_string_attribute("format", "debris trajectory 1: frames/<k>/{position,id,type,radius,velocity,force,group,angular_velocity,image,label,label_names}");
     file.write_strings("group_names", group_names_);
     file.create_group("frames", {.reserved_name_bytes = xdmf::kFrameNameBytes});
@@ -27,21 +32,31 @@ TrajectoryWriter::TrajectoryWriter(const std::string& dir, const std::string& st
   } catch (const std::runtime_error& e) {
     throw output_error(h5_path_, e.what());
   }
-  write_xmf();
+  if (!all_ranks_ || comm::rank() == 0) write_xmf();
 }
 
 void TrajectoryWriter::write_frame(long step, double time, const Box& box, const Particles& p) {
-  const std::size_t n = p.size();
-  std::vector<std::size_t> order(n);
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(), [&p](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+  FrameShare all;
+  all.which.resize(p.size());
+  std::iota(all.which.begin(), all.which.end(), 0);
+  std::sort(all.which.begin(), all.which.end(), [&p](int a, int b) {
+    return p.id[static_cast<std::size_t>(a)] < p.id[static_cast<std::size_t>(b)];
+  });
+  all.rows.resize(p.size());
+  std::iota(all.rows.begin(), all.rows.end(), std::int64_t{0});
+  all.total = p.size();
+  write_frame(step, time, box, p, all);
+}
 
+void TrajectoryWriter::write_frame(long step, double time, const Box& box, const Particles& p, const FrameShare& share) {
+  const std::size_t n = share.which.size();
   std::vector<double> position(3 * n), velocity(3 * n), force(3 * n), omega(3 * n), radius(n);
   std::vector<std::int64_t> id(n);
   std::vector<std::int32_t> type(n), group(n), image(3 * n), label(n);
   const int groups = static_cast<int>(group_names_.size());
+  std::string unnamed;  // the first particle in a group without a name
   for (std::size_t r = 0; r < n; ++r) {
-    const std::size_t i = order[r];
+    const auto i = static_cast<std::size_t>(share.which[r]);
     position[3 * r] = p.x[i], position[3 * r + 1] = p.y[i], position[3 * r + 2] = p.z[i];
     velocity[3 * r] = p.vx[i], velocity[3 * r + 1] = p.vy[i], velocity[3 * r + 2] = p.vz[i];
     force[3 * r] = p.fx[i], force[3 * r + 1] = p.fy[i], force[3 * r + 2] = p.fz[i];
@@ -52,11 +67,13 @@ void TrajectoryWriter::write_frame(long step, double time, const Box& box, const
     id[r] = p.id[i];
     type[r] = p.type[i];
     group[r] = p.group[i];
-    if (group[r] < -1 || group[r] >= groups) {
-      throw std::invalid_argument("trajectory " + h5_path_ + ": particle " + std::to_string(id[r]) + " is in group " +
-                                  std::to_string(group[r]) + ", but only " + std::to_string(groups) + " are named");
-    }
+    if ((group[r] < -1 || group[r] >= groups) && unnamed.empty())
+      unnamed = "trajectory " + h5_path_ + ": particle " + std::to_string(id[r]) + " is in group " +
+                std::to_string(group[r]) + ", but only " + std::to_string(groups) + " are named";
   }
+  // Every rank stops alike (before any collective call) when one holds such a particle.
+  if (all_ranks_) unnamed = comm::first_message(unnamed);
+  if (!unnamed.empty()) throw std::invalid_argument(unnamed);
 
   const std::size_t k = frames_.size();
   try {
@@ -64,19 +81,21 @@ void TrajectoryWriter::write_frame(long step, double time, const Box& box, const
     // Within the block, a two-step commit: the frame is built as a group linked nowhere and flushed, so
     // its data and the new end of file are on disk before anything the file already held is touched;
     // only then does linking it as /frames/<k> rewrite the index of /frames, and close() flushes that.
-    h5::File file(h5_path_, h5::File::Mode::read_write, {.file_locking = false});
+    h5::File file(h5_path_, h5::File::Mode::read_write, {.file_locking = false, .all_ranks = all_ranks_});
     {
       h5::Group g = file.create_unlinked_group({.small = true});
-      g.write("position", position, n, 3);
-      g.write("id", id);
-      g.write("type", type);
-      g.write("radius", radius);
-      g.write("velocity", velocity, n, 3);
-      g.write("force", force, n, 3);
-      g.write("group", group);
-      g.write("angular_velocity", omega, n, 3);
-      g.write("image", image, n, 3);
-      g.write("label", label);
+      const std::span<const std::int64_t> rows(share.rows);
+      const std::size_t total = share.total;
+      g.write_rows<double>("position", position, rows, {total, 3});
+      g.write_rows<std::int64_t>("id", id, rows, {total});
+      g.write_rows<std::int32_t>("type", type, rows, {total});
+      g.write_rows<double>("radius", radius, rows, {total});
+      g.write_rows<double>("velocity", velocity, rows, {total, 3});
+      g.write_rows<double>("force", force, rows, {total, 3});
+      g.write_rows<std::int32_t>("group", group, rows, {total});
+      g.write_rows<double>("angular_velocity", omega, rows, {total, 3});
+      g.write_rows<std::int32_t>("image", image, rows, {total, 3});
+      g.write_rows<std::int32_t>("label", label, rows, {total});
       // The legend of `label`, per frame: it travels with the particles (Particles::label_names).
       g.write_strings("label_names", p.label_names);
       const Vec3 lo = box.lo(), hi = box.hi();
@@ -92,8 +111,8 @@ void TrajectoryWriter::write_frame(long step, double time, const Box& box, const
   } catch (const std::runtime_error& e) {  // HDF5 cannot write: a full disk, a file size limit
     throw output_error(h5_path_, e.what());
   }
-  frames_.push_back({step, time, n});
-  write_xmf();  // only now is frame k complete on disk
+  frames_.push_back({step, time, share.total});
+  if (!all_ranks_ || comm::rank() == 0) write_xmf();  // only now is frame k complete on disk
 }
 
 void TrajectoryWriter::write_xmf() const {

@@ -23,7 +23,12 @@
 // grow the index of /frames (every 256 frames after the first 512). A kill that interrupts the kernel in
 // the middle of one multi-page write can still tear that index, rarely (a few in 10^4 random kills at most).
 // The file is opened without HDF5's flock, so a viewer holding it open cannot make the run fail.
+//
+// A run cut among MPI ranks writes one file together (all_ranks): every rank makes the writer and each
+// frame's call, each writes its own particles' rows (collective parallel HDF5), and rank 0 the .xmf. The
+// file is the one a single process writes of the same particles, row for row.
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -32,17 +37,29 @@
 
 namespace debris {
 
+/// A process's share of a frame of particles cut among ranks.
+struct FrameShare {
+  std::vector<int> which;          // indices of its particles in its Particles, in increasing id
+  std::vector<std::int64_t> rows;  // their rows in the frame (where their id stands among all ids)
+  std::size_t total = 0;           // particles in the frame, on all ranks
+};
+
 class TrajectoryWriter {
  public:
   /// Creates <dir>/<stem>.h5 and <dir>/<stem>.xmf (truncating both; the .xmf lists no frame yet).
   /// InputError ("output") if they cannot be created or `stem` holds a character XDMF cannot refer to.
-  TrajectoryWriter(const std::string& dir, const std::string& stem, std::vector<std::string> group_names);
+  /// `all_ranks`: every rank of an MPI run makes this writer and writes each frame together.
+  TrajectoryWriter(const std::string& dir, const std::string& stem, std::vector<std::string> group_names,
+                   bool all_ranks = false);
 
   /// Appends frame frames(): positions, ids, types, radii, velocities, forces, groups, angular velocities,
   /// image counts and labels sorted by id, then
   /// rewrites the .xmf. N may change between frames. std::runtime_error (naming file and object) if
   /// HDF5 fails; std::invalid_argument if a particle's group has no name.
   void write_frame(long step, double time, const Box& box, const Particles& p);
+  /// The same, every rank of a writer of all ranks together: each rank's `share` of the particles `p` it
+  /// holds (the box, step and time are every rank's alike).
+  void write_frame(long step, double time, const Box& box, const Particles& p, const FrameShare& share);
 
   long frames() const { return static_cast<long>(frames_.size()); }
   const std::string& h5_path() const { return h5_path_; }
@@ -59,6 +76,7 @@ class TrajectoryWriter {
   std::string h5_name_, h5_path_, xmf_path_;
   std::vector<std::string> group_names_;
   std::vector<Frame> frames_;
+  bool all_ranks_ = false;
 };
 
 }  // namespace debris

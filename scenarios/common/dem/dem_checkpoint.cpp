@@ -61,6 +61,13 @@ std::vector<T> read_sized(const h5::Location& g, const std::string& name, std::s
   return v;
 }
 
+// Rows and list entries are int32 in the file (as in memory).
+void check_checkpoint_size(std::int64_t particles, std::int64_t entries, const std::string& path) {
+  if (particles >= INT32_MAX || entries >= INT32_MAX)
+    throw output_error(path, "a checkpoint holds fewer than 2^31 particles and list entries; this one has " +
+                                 std::to_string(particles) + " and " + std::to_string(entries));
+}
+
 bool all_finite(const std::vector<double>& v) {
   return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
 }
@@ -72,8 +79,69 @@ void DemSimulation::write_checkpoint(const std::string& path, const std::string&
   // The device's state, copied back (offload builds).
   particles_to_host();
   pairs_to_host();
-  write_checkpoint_file(path, [&](const std::string& tmp) {
-    h5::File f(tmp, h5::File::Mode::create);
+  const NeighborList::Saved s = list_.save();
+  const bool root = !distributed_ || comm::rank() == 0;
+  write_checkpoint_file(path, distributed_, [&](const std::string& tmp) {
+    // First what is per particle and per list entry: cut among ranks, each rank writes its own rows of the
+    // one file (collective); alone, the rows are all the rows.
+    const WholeRows w = whole_rows(s);
+    check_checkpoint_size(w.particles, w.entries, path);
+    {
+      h5::File f(tmp, h5::File::Mode::create, {.all_ranks = distributed_});
+      std::vector<std::int64_t> rows;
+      for (const int i : w.owned) rows.push_back(w.row[static_cast<std::size_t>(i)]);
+      const auto n = static_cast<std::size_t>(w.particles), entries = static_cast<std::size_t>(w.entries);
+      {
+        h5::Group parts = f.create_group("particles");
+        p_.for_each_column([&](const char* name, const auto& col) {
+          using T = typename std::decay_t<decltype(col)>::value_type;
+          std::vector<T> mine;
+          for (const int i : w.owned) mine.push_back(col[static_cast<std::size_t>(i)]);
+          parts.write_rows<T>(name, mine, rows, {n});
+        });
+      }
+      // The list as built (rows and partners as rows of the whole system) and each entry's contact history.
+      std::vector<std::int64_t> offset_rows = rows, entry_rows;
+      std::vector<std::int32_t> offset, index;
+      std::vector<double> x0, y0, z0, hx, hy, hz;
+      for (std::size_t k = 0; k < w.owned.size(); ++k) {
+        const auto i = static_cast<std::size_t>(w.owned[k]);
+        offset.push_back(static_cast<std::int32_t>(w.first_entry[k]));
+        x0.push_back(s.x0[i]);
+        y0.push_back(s.y0[i]);
+        z0.push_back(s.z0[i]);
+        for (int e = s.offset[i]; e < s.offset[i + 1]; ++e) {
+          const auto ue = static_cast<std::size_t>(e);
+          entry_rows.push_back(w.first_entry[k] + (e - s.offset[i]));
+          index.push_back(static_cast<std::int32_t>(w.row[static_cast<std::size_t>(s.index[ue])]));
+          hx.push_back(history_.hx[ue]);
+          hy.push_back(history_.hy[ue]);
+          hz.push_back(history_.hz[ue]);
+        }
+      }
+      if (root) {  // the end of the last row
+        offset_rows.push_back(w.particles);
+        offset.push_back(static_cast<std::int32_t>(w.entries));
+      }
+      {
+        h5::Group nl = f.create_group("neighbors");
+        nl.write_rows<std::int32_t>("offset", offset, offset_rows, {n + 1});
+        nl.write_rows<std::int32_t>("index", index, entry_rows, {entries});
+        nl.write_rows<double>("x0", x0, rows, {n});
+        nl.write_rows<double>("y0", y0, rows, {n});
+        nl.write_rows<double>("z0", z0, rows, {n});
+      }
+      {
+        h5::Group hist = f.create_group("history");
+        hist.write_rows<double>("hx", hx, entry_rows, {entries});
+        hist.write_rows<double>("hy", hy, entry_rows, {entries});
+        hist.write_rows<double>("hz", hz, entry_rows, {entries});
+      }
+      f.close();
+    }
+    if (!root) return;
+    // Then what the whole system has once (every rank holds the same): one process adds it.
+    h5::File f(tmp, h5::File::Mode::read_write);
     f.set_attribute<std::int64_t>("format_version", kFormatVersion);
     f.set_string_attribute("format", std::string(kFormatName) + " " + std::to_string(kFormatVersion));
     f.write_string("input", input_echo);
@@ -105,10 +173,6 @@ void DemSimulation::write_checkpoint(const std::string& path, const std::string&
       box.write("lo", std::vector<double>{box_.lo().x, box_.lo().y, box_.lo().z});
       box.write("hi", std::vector<double>{box_.hi().x, box_.hi().y, box_.hi().z});
       box.write("periodic", std::vector<std::int32_t>{box_.periodic(0), box_.periodic(1), box_.periodic(2)});
-    }
-    {
-      h5::Group parts = f.create_group("particles");
-      const_cast<Particles&>(p_).for_each_column([&](const char* name, auto& col) { parts.write(name, col); });
     }
     {
       // The legend of the particles' label column (label k is name k-1).
@@ -148,22 +212,10 @@ void DemSimulation::write_checkpoint(const std::string& path, const std::string&
       }
     }
     {
-      h5::Group nl = f.create_group("neighbors");
-      const NeighborList::Saved s = list_.save();
+      h5::Group nl = f.open_group("neighbors");
       nl.write_scalar<std::int32_t>("kind", static_cast<std::int32_t>(s.kind));
       nl.write_scalar<double>("skin", s.skin);
-      nl.write("offset", s.offset);
-      nl.write("index", s.index);
-      nl.write("x0", s.x0);
-      nl.write("y0", s.y0);
-      nl.write("z0", s.z0);
       nl.write("len0", std::vector<double>{s.len0[0], s.len0[1], s.len0[2]});
-    }
-    {
-      h5::Group hist = f.create_group("history");
-      hist.write("hx", history_.hx);
-      hist.write("hy", history_.hy);
-      hist.write("hz", history_.hz);
     }
     if (extra) extra(f);
     f.close();

@@ -1,11 +1,14 @@
 // DemSimulation cut among MPI ranks (shared/design/scale-mpi.md): the set-up that keeps a rank's own
 // particles, the rebuild that migrates them with their pair state and lays the ghosts around them, and the
-// two ways between a distributed run and the whole system as one process holds it: with_whole_system()
-// gathers that on rank 0 (for frames, checkpoints, the wear analysis), and a run restored from such a
-// checkpoint on any rank count replays the last rebuild on its own ranks (distribute_restored()).
+// ways between a distributed run and the whole system as one process holds it: with_whole_system()
+// gathers that on rank 0 (for the LAMMPS dump and the wear analysis), frame_share() and whole_rows() say
+// where a rank's particles stand in a trajectory frame and in a one-process checkpoint (each rank writes its
+// own rows), and a run restored from a checkpoint on any rank count replays the last rebuild on its own
+// ranks (distribute_restored()).
 #include <algorithm>
 #include <cstdio>
 #include <numeric>
+#include <unordered_map>
 #include <stdexcept>
 #include <string>
 
@@ -25,9 +28,36 @@ void DemSimulation::distribute() {
   if (!settings_.sort_by_cell)
     throw std::logic_error("DemSimulation: a run cut among ranks stores its particles in the canonical order");
   decomposition_ = comm::Decomposition::make(box_, comm::size(), comm::rank(), max_cutoff_ + skin_, settings_.rank_grid);
+  remember_ids();
   box_.wrap(p_);
   comm::keep_owned(decomposition_, box_, p_);
   owned_.assign(p_.size(), 1);
+}
+
+void DemSimulation::remember_ids() {
+  ids_in_order_.assign(p_.id.begin(), p_.id.end());
+  std::sort(ids_in_order_.begin(), ids_in_order_.end());
+  first_id_ = ids_in_order_.empty() ? 0 : ids_in_order_.front();
+  // Consecutive ids (a lattice's, a LAMMPS data file's) need no table: the row is id - first id.
+  if (!ids_in_order_.empty() && ids_in_order_.back() - first_id_ + 1 == static_cast<std::int64_t>(ids_in_order_.size()))
+    ids_in_order_.clear();
+}
+
+FrameShare DemSimulation::frame_share() const {
+  FrameShare share;
+  for (std::size_t i = 0; i < p_.size(); ++i)
+    if (!distributed_ || owned_[i]) share.which.push_back(static_cast<int>(i));
+  std::sort(share.which.begin(), share.which.end(),
+            [&](int a, int b) { return p_.id[static_cast<std::size_t>(a)] < p_.id[static_cast<std::size_t>(b)]; });
+  share.total = particle_count();
+  share.rows.resize(share.which.size());
+  for (std::size_t k = 0; k < share.which.size(); ++k) {
+    const std::int64_t id = p_.id[static_cast<std::size_t>(share.which[k])];
+    if (!distributed_) share.rows[k] = static_cast<std::int64_t>(k);
+    else if (ids_in_order_.empty()) share.rows[k] = id - first_id_;
+    else share.rows[k] = std::lower_bound(ids_in_order_.begin(), ids_in_order_.end(), id) - ids_in_order_.begin();
+  }
+  return share;
 }
 
 void DemSimulation::rebuild_distributed() {
@@ -202,6 +232,99 @@ void DemSimulation::with_whole_system(const std::function<void(const DemSimulati
   use(image);
 }
 
+DemSimulation::WholeRows DemSimulation::whole_rows(const NeighborList::Saved& built) const {
+  WholeRows w;
+  const std::size_t n = p_.size();
+  auto entries_of = [&](std::size_t i) { return static_cast<std::int64_t>(built.offset[i + 1] - built.offset[i]); };
+  if (!distributed_) {
+    w.owned.resize(n);
+    std::iota(w.owned.begin(), w.owned.end(), 0);
+    w.row.assign(w.owned.begin(), w.owned.end());
+    w.first_entry.assign(built.offset.begin(), built.offset.begin() + static_cast<std::ptrdiff_t>(n));
+    w.particles = static_cast<std::int64_t>(n);
+    w.entries = static_cast<std::int64_t>(built.index.size());
+    return w;
+  }
+  // One process stores the system in the canonical order of the last build: by cell, then by id within a
+  // cell. Per cell, summed over the ranks: its particles, the ranks holding some, their list entries.
+  const auto& dims = build_grid_.grid.dims;
+  const std::size_t cells = static_cast<std::size_t>(dims[0]) * static_cast<std::size_t>(dims[1]) *
+                            static_cast<std::size_t>(dims[2]);
+  std::vector<long long> cell(n);
+  for (std::size_t i = 0; i < n; ++i) cell[i] = build_grid_.cell_of(built.x0[i], built.y0[i], built.z0[i]);
+  std::vector<std::int64_t> per_cell(3 * cells, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (owned_[i]) {
+      const auto c = static_cast<std::size_t>(cell[i]);
+      per_cell[3 * c] += 1;
+      per_cell[3 * c + 1] = 1;
+      per_cell[3 * c + 2] += entries_of(i);
+    }
+  if (per_cell.size() > static_cast<std::size_t>(INT32_MAX)) throw std::runtime_error("checkpoint: too many cells");
+  comm::allreduce_sum(per_cell.data(), static_cast<int>(per_cell.size()));
+  std::vector<std::int64_t> first_row(cells), first_entry(cells);
+  for (std::size_t c = 0; c < cells; ++c) {
+    first_row[c] = w.particles;
+    first_entry[c] = w.entries;
+    w.particles += per_cell[3 * c];
+    w.entries += per_cell[3 * c + 2];
+  }
+  // A cell that several ranks hold particles of: every rank learns them all (id, entries) to place its own.
+  std::vector<char> out;
+  for (std::size_t i = 0; i < n; ++i)
+    if (owned_[i] && per_cell[3 * static_cast<std::size_t>(cell[i]) + 1] > 1) {
+      comm::pack_value(static_cast<std::int64_t>(cell[i]), out);
+      comm::pack_value(p_.id[i], out);
+      comm::pack_value(entries_of(i), out);
+    }
+  struct Member {
+    std::int64_t id, entries;
+  };
+  std::unordered_map<long long, std::vector<Member>> shared;
+  for (const std::vector<char>& message : comm::gather_to_all(out)) {
+    comm::Unpacker u(message);
+    while (!u.done()) {
+      const auto c = static_cast<long long>(u.value<std::int64_t>());
+      const auto id = u.value<std::int64_t>();
+      shared[c].push_back({id, u.value<std::int64_t>()});
+    }
+  }
+  for (auto& [c, members] : shared)
+    std::sort(members.begin(), members.end(), [](const Member& a, const Member& b) { return a.id < b.id; });
+
+  // This rank stores its particles in the same order, so the owned ones of a cell no other rank holds come
+  // one after another, by id.
+  std::vector<double> row(n, -1.0);  // exact: rows < 2^53
+  long long current = -1;
+  std::int64_t before = 0, entries_before = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!owned_[i]) continue;
+    const long long c = cell[i];
+    const auto uc = static_cast<std::size_t>(c);
+    std::int64_t r = first_row[uc], e = first_entry[uc];
+    if (per_cell[3 * uc + 1] > 1) {
+      for (const Member& m : shared.at(c)) {
+        if (m.id == p_.id[i]) break;
+        ++r;
+        e += m.entries;
+      }
+    } else {
+      if (c != current) current = c, before = 0, entries_before = 0;
+      r += before++;
+      e += entries_before;
+      entries_before += entries_of(i);
+    }
+    w.owned.push_back(static_cast<int>(i));
+    w.first_entry.push_back(e);
+    row[i] = static_cast<double>(r);
+  }
+  // A ghost's row comes from its owner, for the list entries that name it.
+  halo_.forward_values(row);
+  w.row.assign(n, -1);
+  for (std::size_t i = 0; i < n; ++i) w.row[i] = static_cast<std::int64_t>(row[i]);
+  return w;
+}
+
 void DemSimulation::distribute_restored(std::array<int, 3> rank_grid) {
   if constexpr (exec::offload_build())
     throw std::runtime_error("a run cut among MPI ranks runs on host threads so far: use a host build under mpirun");
@@ -212,6 +335,7 @@ void DemSimulation::distribute_restored(std::array<int, 3> rank_grid) {
   settings_.rank_grid = rank_grid;
   n_total_ = static_cast<long long>(p_.size());
   distributed_ = true;
+  remember_ids();
   decomposition_ = comm::Decomposition::make(box_, comm::size(), comm::rank(), max_cutoff_ + skin_, rank_grid);
   const NeighborList::Saved built = list_.save();
   Particles at_build = p_;

@@ -146,13 +146,14 @@ class DemRunModel final : public RunModel {
     if (cfg_.output.pictures && suffix.empty())
       sim_.with_whole_system(
           [&](const DemSimulation& whole) { write_side_view(dir, "side_start", whole.particles(), picture_units()); });
-    // The other ranks' share of rank 0's first sample below (the analysis gathers the system).
-    if (cfg_.wear && !root_ && (suffix.empty() || !wear_restored_)) sample_wear();
-    if (!root_) return;  // rank 0 writes the files
-    dump_.emplace((fs::path(dir) / ("dump" + suffix + ".lammpstrj")).string());
+    // Cut among ranks, every rank writes its own rows of the trajectory (one file, collective).
     std::vector<std::string> names;
     for (const Group& g : sim_.groups().list) names.push_back(g.name);
-    trajectory_.emplace(dir, "trajectory" + suffix, names);
+    if (root_ || sim_.distributed()) trajectory_.emplace(dir, "trajectory" + suffix, names, sim_.distributed());
+    // The other ranks' share of rank 0's first sample below (the analysis gathers the system).
+    if (cfg_.wear && !root_ && (suffix.empty() || !wear_restored_)) sample_wear();
+    if (!root_) return;  // rank 0 writes the other files
+    dump_.emplace((fs::path(dir) / ("dump" + suffix + ".lammpstrj")).string());
     if (wear_) {
       // A restart continues wear.csv from the analysis's state in the checkpoint, which holds the sample
       // of its own step when one was due.
@@ -172,20 +173,21 @@ class DemRunModel final : public RunModel {
   bool frame_due(long step) const override { return due(cfg_.output.dump_every, step) || due(trajectory_every(), step); }
   void write_frame(bool every_stream) override {
     const long step = sim_.step_count();
-    sim_.with_whole_system([&](const DemSimulation& whole) {
-      if (every_stream || due(cfg_.output.dump_every, step)) dump_->write_frame(step, whole.box(), whole.particles());
-      if (every_stream || due(trajectory_every(), step))
-        trajectory_->write_frame(step, whole.time(), whole.box(), whole.particles());
-    });
+    if (every_stream || due(trajectory_every(), step)) {
+      if (sim_.distributed()) trajectory_->write_frame(step, sim_.time(), sim_.box(), sim_.particles(), sim_.frame_share());
+      else trajectory_->write_frame(step, sim_.time(), sim_.box(), sim_.particles());
+    }
+    // The text dump is one stream: rank 0 writes it from the gathered system.
+    if (every_stream || due(cfg_.output.dump_every, step))
+      sim_.with_whole_system([&](const DemSimulation& whole) { dump_->write_frame(step, whole.box(), whole.particles()); });
   }
   std::string frame_files(const std::string& suffix) const override {
     return "dump" + suffix + ".lammpstrj, trajectory" + suffix + ".xmf + .h5" + (wear_ ? ", wear.csv" : "") +
            (cfg_.output.pictures ? ", side_view.png, tangential_force.png" : "");
   }
   void write_checkpoint(const std::string& path, const std::string& input) const override {
-    sim_.with_whole_system([&](const DemSimulation& whole) {
-      whole.write_checkpoint(path, input, [&](h5::File& f) { write_run_state(f, overlap_limit_, wear_); });
-    });
+    // Cut among ranks: every rank writes its rows, rank 0 (which holds the wear analysis) the run state.
+    sim_.write_checkpoint(path, input, [&](h5::File& f) { write_run_state(f, overlap_limit_, wear_); });
   }
 
   std::string apply_stage(int k) override {

@@ -36,6 +36,7 @@
 #include "core/exec.hpp"
 #include "core/cell_list.hpp"
 #include "core/groups.hpp"
+#include "core/io/trajectory_writer.hpp"
 #include "core/neighbor_list.hpp"
 #include "core/particles.hpp"
 #include "kernels/dem/cohesive_contact.hpp"
@@ -161,8 +162,11 @@ class DemSimulation {
   /// Calls `use` with the whole system as one process running it would hold it at this step (particles in
   /// its storage order, the neighbour list as built, the contact history, groups, clock): this simulation
   /// itself on one process; cut among ranks, an image gathered on rank 0, and the other ranks do not call
-  /// `use` (collective). What frames, checkpoints and the wear analysis read.
+  /// `use` (collective). What the LAMMPS dump and the wear analysis read.
   void with_whole_system(const std::function<void(const DemSimulation&)>& use) const;
+  /// This process's share of a trajectory frame: its particles (owned ones, cut among ranks) in increasing
+  /// id, and their rows in the frame, where their ids stand among all the ids of the run.
+  FrameShare frame_share() const;
 
   /// Forces a neighbour rebuild (with re-sort and history carry-over) now, as if particles had drifted.
   void rebuild_neighbors();
@@ -207,6 +211,9 @@ class DemSimulation {
   /// `path`.tmp, closed, then renamed, so a crash mid-write leaves the previous checkpoint whole.
   /// `extra` (may be empty) writes what the run keeps beside the system (its `run` group: the health check's
   /// limit, the wear analysis's state) into the open file.
+  /// Cut among ranks, every rank calls it (collective): each writes its own particles' rows and their list
+  /// rows into the one file (parallel HDF5), then rank 0 adds the rest, calls `extra`, seals and renames.
+  /// The file is the one a single process writes of the same run, dataset for dataset.
   void write_checkpoint(const std::string& path, const std::string& input_echo,
                         const std::function<void(h5::File&)>& extra = {}) const;
   /// Continues from a checkpoint exactly where it was written. `input_echo` receives the input text;
@@ -233,6 +240,14 @@ class DemSimulation {
   void distribute();           // set-up of a run cut among ranks: the decomposition, keep the owned
   void distribute_restored(std::array<int, 3> rank_grid);  // from the whole system, as at its last rebuild
   void index_half_pass();  // pair table and pass scratch of the half-list pass, after a build
+  // Where this process's share of the system stands in a one-process checkpoint (write_checkpoint()).
+  struct WholeRows {
+    std::vector<int> owned;                 // stored particles this process writes, in storage order
+    std::vector<std::int64_t> row;          // per stored particle (owned or ghost): its row in the whole system
+    std::vector<std::int64_t> first_entry;  // per owned one: the row of its first list entry
+    std::int64_t particles = 0, entries = 0;  // in the whole system
+  };
+  WholeRows whole_rows(const NeighborList::Saved& built) const;
   // Residency (offload builds; empty in host builds). The host copies of the particles, and of the list and
   // history, are current when the flags say so; host_edited_ says the device copy of the particles is not.
   void particles_to_host() const {
@@ -288,6 +303,10 @@ class DemSimulation {
   std::vector<unsigned char> owned_;
   long long n_total_ = 0;
   CanonicalGrid build_grid_;  // the canonical order's grid at the last rebuild
+  // Every id of the run, sorted, for frame_share() (left empty when the ids are first_id_, first_id_ + 1, ...).
+  std::vector<std::int64_t> ids_in_order_;
+  std::int64_t first_id_ = 0;
+  void remember_ids();  // while this rank still holds every particle
   double limit_radius_ = 0, limit_mass_ = 0;  // the particle that limits dt at set-up (summary())
   mutable bool particles_on_host_ = true, pairs_on_host_ = true, host_edited_ = true;
 };

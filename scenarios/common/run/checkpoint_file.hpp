@@ -10,8 +10,10 @@
 // that cannot be written is an OutputError (exit 3); the previous one is left as it was.
 #include <filesystem>
 #include <new>
+#include <utility>
 #include <string>
 
+#include "core/comm/communicator.hpp"
 #include "core/error.hpp"
 #include "core/io/hdf5_seal.hpp"
 
@@ -64,24 +66,33 @@ auto read_checkpoint_file(const std::string& path, const std::string& kind, Read
 
 /// Calls write(tmp) to write the checkpoint's HDF5 file `path`.tmp and close it, seals it, and renames it
 /// over `path`. On any failure the temporary file is removed, `path` is untouched, and an OutputError
-/// names it.
+/// names it. `all_ranks`: every rank of a run cut among ranks calls this and write(tmp) (which writes one
+/// file together); rank 0 alone seals and renames, once every rank has closed the file.
 template <class Write>
-void write_checkpoint_file(const std::string& path, Write&& write) {
+void write_checkpoint_file(const std::string& path, bool all_ranks, Write&& write) {
+  const bool root = !all_ranks || comm::rank() == 0;
   const std::string tmp = path + ".tmp";
   try {
     write(tmp);
-    h5::seal(tmp);
+    if (root) h5::seal(tmp);
   } catch (const std::exception& e) {
     std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
+    if (root) std::filesystem::remove(tmp, ignored);
     throw output_error(path, std::string("cannot write the checkpoint (the previous one is kept): ") + e.what());
   }
+  if (!root) return;
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
   if (ec) {
     std::filesystem::remove(tmp, ec);
     throw output_error(path, "cannot rename " + tmp + " onto it (the previous checkpoint is kept): " + ec.message());
   }
+}
+
+/// One process writes the checkpoint.
+template <class Write>
+void write_checkpoint_file(const std::string& path, Write&& write) {
+  write_checkpoint_file(path, false, std::forward<Write>(write));
 }
 
 }  // namespace debris
