@@ -17,10 +17,14 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <functional>
 #include <random>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 #include "core/box.hpp"
 #include "core/canonical_order.hpp"
@@ -31,6 +35,7 @@
 #include "core/contact_history.hpp"
 #include "core/exec.hpp"
 #include "core/groups.hpp"
+#include "core/io/trajectory_writer.hpp"
 #include "core/lattice.hpp"
 #include "core/neighbor_list.hpp"
 #include "kernels/dem/cohesive_contact_half.hpp"
@@ -200,6 +205,41 @@ void run_engine(int per_rank, int steps) {
                 "%ld rebuilds\n",
                 rate.mean / 1e6, rate.min / 1e6, 100 * comm_share.mean, 100 * comm_share.max,
                 after.rebuilds - before.rebuilds);
+
+  // Output: a trajectory frame and a checkpoint, each rank writing its own rows into the one file
+  // (parallel HDF5), against rank 0 writing the system gathered from the ranks (with_whole_system).
+  namespace fs = std::filesystem;
+  const std::string dir = comm::first_message(
+      comm::rank() == 0 ? (fs::temp_directory_path() / ("debris_weak_output_" + std::to_string(::getpid()))).string() : "");
+  if (comm::rank() == 0) fs::create_directories(dir);
+  comm::barrier();
+  auto timed = [&](const std::function<void()>& write) {
+    comm::barrier();
+    const auto t0 = Clock::now();
+    write();
+    comm::barrier();
+    return seconds(t0, Clock::now());
+  };
+  const double frame_ranks = timed([&] {
+    TrajectoryWriter out(dir, "ranks", {"floor", "lid"}, true);
+    out.write_frame(sim.step_count(), sim.time(), sim.box(), sim.particles(), sim.frame_share());
+  });
+  const double frame_gathered = timed([&] {
+    sim.with_whole_system([&](const DemSimulation& whole) {
+      TrajectoryWriter out(dir, "gathered", {"floor", "lid"});
+      out.write_frame(whole.step_count(), whole.time(), whole.box(), whole.particles());
+    });
+  });
+  const double checkpoint_ranks = timed([&] { sim.write_checkpoint(dir + "/ranks.h5", ""); });
+  const double checkpoint_gathered = timed([&] {
+    sim.with_whole_system([&](const DemSimulation& whole) { whole.write_checkpoint(dir + "/gathered.h5", ""); });
+  });
+  if (comm::rank() == 0) {
+    const double mb = static_cast<double>(fs::file_size(dir + "/ranks.h5")) / 1e6;
+    std::printf("  output: frame %.3f s (rank 0 gathering: %.3f s), checkpoint %.3f s = %.0f MB (gathering: %.3f s)\n",
+                frame_ranks, frame_gathered, checkpoint_ranks, mb, checkpoint_gathered);
+    fs::remove_all(dir);
+  }
 }
 }  // namespace
 

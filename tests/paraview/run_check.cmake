@@ -1,6 +1,7 @@
 # The ParaViewOpensTrajectory test: write_sample writes DIR/sample.{h5,xmf} and DIR/expected.json, then
 # ParaView's pvpython opens the .xmf with check_trajectory.py, headless.
-#   cmake -DWRITER=... -DPVPYTHON=... -DSCRIPT=... -DDIR=... -P run_check.cmake
+#   cmake -DWRITER=... -DPVPYTHON=... -DSCRIPT=... -DDIR=... [-DLAUNCH="mpiexec;-np;3;..."] -P run_check.cmake
+# LAUNCH (a list) starts the writer, e.g. under mpiexec: the ranks then write the trajectory together.
 if(NOT PVPYTHON OR PVPYTHON MATCHES "NOTFOUND$")
   # Failing, not skipping: CI installs ParaView, and a silent skip there would hide a broken trajectory.
   message(FATAL_ERROR "pvpython not found: install ParaView's Python (Debian 12: "
@@ -10,7 +11,7 @@ endif()
 
 file(REMOVE_RECURSE "${DIR}")
 file(MAKE_DIRECTORY "${DIR}")
-execute_process(COMMAND "${WRITER}" "${DIR}" RESULT_VARIABLE rc)
+execute_process(COMMAND ${LAUNCH} "${WRITER}" "${DIR}" RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "${WRITER} ${DIR} failed: ${rc}")
 endif()

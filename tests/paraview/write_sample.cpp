@@ -1,6 +1,8 @@
 // Writes a small known trajectory for the ParaView test: OUTPUT_DIR/sample.{h5,xmf} through
 // TrajectoryWriter, and OUTPUT_DIR/expected.json with what ParaView must show (check_trajectory.py).
 // Particles are stored out of id order and the last frame has more of them, as in a real run.
+// Under mpirun (an MPI build) the ranks write the file together, each a share of every frame's particles
+// (the parallel trajectory of a run cut among ranks); rank 0 writes expected.json.
 #include <algorithm>
 #include <charconv>
 #include <cstdint>
@@ -11,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "core/comm/communicator.hpp"
 #include "core/io/trajectory_writer.hpp"
 
 namespace {
@@ -73,7 +76,25 @@ std::string expected_frame(const Particles& p) {
 
 }  // namespace
 
+// This rank's share of frame `p`: every size()-th particle in storage order, and the rows of their ids.
+debris::FrameShare share_of(const Particles& p) {
+  std::vector<std::int64_t> ids(p.id.begin(), p.id.end());
+  std::sort(ids.begin(), ids.end());
+  debris::FrameShare share;
+  for (std::size_t i = static_cast<std::size_t>(debris::comm::rank()); i < p.size();
+       i += static_cast<std::size_t>(debris::comm::size()))
+    share.which.push_back(static_cast<int>(i));
+  std::sort(share.which.begin(), share.which.end(), [&p](int a, int b) {
+    return p.id[static_cast<std::size_t>(a)] < p.id[static_cast<std::size_t>(b)];
+  });
+  for (const int i : share.which)
+    share.rows.push_back(std::lower_bound(ids.begin(), ids.end(), p.id[static_cast<std::size_t>(i)]) - ids.begin());
+  share.total = p.size();
+  return share;
+}
+
 int main(int argc, char** argv) {
+  debris::comm::Session mpi(&argc, &argv);
   if (argc != 2) {
     std::fprintf(stderr, "usage: %s OUTPUT_DIR\n", argv[0]);
     return 2;
@@ -81,8 +102,14 @@ int main(int argc, char** argv) {
   const std::string dir = argv[1];
   try {
     const debris::Box box({-1, -40, -1}, {60, 1, 1}, {true, false, true});
-    debris::TrajectoryWriter w(dir, "sample", {"small_ids"});
-    for (int k = 0; k < 3; ++k) w.write_frame(100L * k, kTimes[k], box, frame(k));
+    const bool ranks = debris::comm::size() > 1;
+    debris::TrajectoryWriter w(dir, "sample", {"small_ids"}, ranks);
+    for (int k = 0; k < 3; ++k) {
+      const Particles p = frame(k);
+      if (ranks) w.write_frame(100L * k, kTimes[k], box, p, share_of(p));
+      else w.write_frame(100L * k, kTimes[k], box, p);
+    }
+    if (debris::comm::rank() != 0) return 0;
     std::ofstream json(dir + "/expected.json");
     json << "{\"times\": [" << num(kTimes[0]) << ", " << num(kTimes[1]) << ", " << num(kTimes[2]) << "],\n"
          << " \"first\": " << expected_frame(frame(0)) << ",\n"
