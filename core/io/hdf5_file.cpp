@@ -374,24 +374,40 @@ Handle Location::dataset_creation() const {
 
 bool Location::writes_whole() const { return !all_ranks_ || comm::rank() == 0; }
 
-template <Element T>
-void Location::write_rows(const std::string& name, std::span<const T> values, std::span<const std::int64_t> rows,
-                          const Shape& shape) {
-  quiet();
-  const std::string object = child_path(name);
-  if (shape.empty()) throw std::invalid_argument("HDF5: writing rows of '" + object + "': a scalar has no rows");
-  const std::size_t width = product(Shape(shape.begin() + 1, shape.end()));
-  if (values.size() != rows.size() * width) {
-    throw std::invalid_argument("HDF5: writing rows of '" + object + "' in file '" + file_ + "': " +
-                                std::to_string(values.size()) + " values are not " + std::to_string(rows.size()) +
-                                " rows of " + std::to_string(width));
-  }
+RowSelection::RowSelection(std::span<const std::int64_t> rows, const Shape& shape)
+    : shape_(shape), rows_(rows.size()), space_(Dataspace::simple(shape.empty() ? Shape{0} : shape)) {
+  if (shape.empty()) throw std::invalid_argument("HDF5: selecting rows: a scalar has no rows");
+  width_ = product(Shape(shape.begin() + 1, shape.end()));
   for (std::size_t k = 0; k < rows.size(); ++k)
     if (rows[k] < 0 || static_cast<std::size_t>(rows[k]) >= shape[0] || (k > 0 && rows[k] <= rows[k - 1]))
-      throw std::invalid_argument("HDF5: writing rows of '" + object + "': row " + std::to_string(rows[k]) +
+      throw std::invalid_argument("HDF5: selecting rows: row " + std::to_string(rows[k]) +
                                   " is out of order or beyond the " + std::to_string(shape[0]) + " rows");
+  // The rows as blocks of consecutive rows, whole rows each; the values in memory follow in the same order.
+  std::vector<hsize_t> start(shape.size(), 0), count(shape.size(), 1), block(shape.begin(), shape.end());
+  if (H5Sselect_none(space_.id()) < 0) throw std::runtime_error("HDF5: cannot select rows: " + reason());
+  for (std::size_t k = 0; k < rows.size();) {
+    std::size_t end = k + 1;
+    while (end < rows.size() && rows[end] == rows[end - 1] + 1) ++end;
+    start[0] = static_cast<hsize_t>(rows[k]);
+    block[0] = static_cast<hsize_t>(end - k);
+    if (H5Sselect_hyperslab(space_.id(), H5S_SELECT_OR, start.data(), nullptr, count.data(), block.data()) < 0)
+      throw std::runtime_error("HDF5: cannot select rows: " + reason());
+    k = end;
+  }
+}
+
+template <Element T>
+void Location::write_rows(const std::string& name, std::span<const T> values, const RowSelection& rows) {
+  quiet();
+  const std::string object = child_path(name);
+  const Shape& shape = rows.shape();
+  if (values.size() != rows.rows() * rows.row_width()) {
+    throw std::invalid_argument("HDF5: writing rows of '" + object + "' in file '" + file_ + "': " +
+                                std::to_string(values.size()) + " values are not " + std::to_string(rows.rows()) +
+                                " rows of " + std::to_string(rows.row_width()));
+  }
   // Every row once: a row left out would hold whatever the disk held (no fill value is written).
-  std::int64_t covered = static_cast<std::int64_t>(rows.size());
+  std::int64_t covered = static_cast<std::int64_t>(rows.rows());
   if (all_ranks_) comm::allreduce_sum(&covered, 1);
   if (covered != static_cast<std::int64_t>(shape[0]))
     throw std::logic_error("HDF5: writing rows of '" + object + "' in file '" + file_ + "': " +
@@ -401,18 +417,6 @@ void Location::write_rows(const std::string& name, std::span<const T> values, st
   const Handle lcpl = intermediate_lcpl(), dcpl = dataset_creation();
   Handle d(H5Dcreate2(id(), name.c_str(), file_type<T>(), space.id(), lcpl.id(), dcpl.id(), H5P_DEFAULT), H5Dclose);
   if (!d.valid()) fail("cannot create dataset", object, file_);
-  // The rows as blocks of consecutive rows, whole rows each; the values in memory follow in the same order.
-  std::vector<hsize_t> start(shape.size(), 0), count(shape.size(), 1), block(shape.begin(), shape.end());
-  if (H5Sselect_none(space.id()) < 0) fail("cannot select rows of", object, file_);
-  for (std::size_t k = 0; k < rows.size();) {
-    std::size_t end = k + 1;
-    while (end < rows.size() && rows[end] == rows[end - 1] + 1) ++end;
-    start[0] = static_cast<hsize_t>(rows[k]);
-    block[0] = static_cast<hsize_t>(end - k);
-    if (H5Sselect_hyperslab(space.id(), H5S_SELECT_OR, start.data(), nullptr, count.data(), block.data()) < 0)
-      fail("cannot select rows of", object, file_);
-    k = end;
-  }
   const Dataspace memory = Dataspace::simple({std::max<std::size_t>(values.size(), 1)});
   if (values.empty() && H5Sselect_none(memory.id()) < 0) fail("cannot select rows of", object, file_);
   Handle dxpl(H5Pcreate(H5P_DATASET_XFER), H5Pclose);
@@ -420,7 +424,7 @@ void Location::write_rows(const std::string& name, std::span<const T> values, st
   const bool together = all_ranks_ && comm::hdf5_collective_transfer(dxpl.id());
   // Collective: every rank writes, those without rows too; alone, nothing to write is nothing to do.
   if ((together || !values.empty()) &&
-      H5Dwrite(d.id(), memory_type<T>(), memory.id(), space.id(), dxpl.id(), values.data()) < 0)
+      H5Dwrite(d.id(), memory_type<T>(), memory.id(), rows.id(), dxpl.id(), values.data()) < 0)
     fail("cannot write rows of", object, file_);
   if (!d.reset()) fail("cannot close dataset", object, file_);
 }
@@ -607,8 +611,7 @@ void File::close() {
 #define DEBRIS_H5_INSTANTIATE(T)                                                                \
   template Array<T> Dataset::read<T>() const;                                                   \
   template void Location::write<T>(const std::string&, std::span<const T>, const Shape&);       \
-  template void Location::write_rows<T>(const std::string&, std::span<const T>, std::span<const std::int64_t>, \
-                                        const Shape&);                                          \
+  template void Location::write_rows<T>(const std::string&, std::span<const T>, const RowSelection&); \
   template T Location::read_scalar<T>(const std::string&) const;                                \
   template void Location::set_attribute_array<T>(const std::string&, std::span<const T>, const Shape&); \
   template std::vector<T> Location::attribute_array<T>(const std::string&) const;               \

@@ -71,6 +71,25 @@ class Dataspace {
   Handle h_;
 };
 
+/// The rows of a dataset of `shape` (shape[0] rows, each of the product of the other dimensions) that one
+/// process writes: `rows` strictly increasing, selected as blocks of consecutive rows. Made once and given
+/// to write_rows() for every dataset of that shape and those rows: selecting thousands of blocks costs
+/// HDF5 more than writing them. std::invalid_argument for rows out of order or range, or a scalar shape.
+class RowSelection {
+ public:
+  RowSelection(std::span<const std::int64_t> rows, const Shape& shape);
+  const Shape& shape() const { return shape_; }
+  std::size_t rows() const { return rows_; }
+  std::size_t row_width() const { return width_; }
+  /// The file dataspace of `shape` with the rows selected.
+  std::int64_t id() const { return space_.id(); }
+
+ private:
+  Shape shape_;
+  std::size_t rows_ = 0, width_ = 1;
+  Dataspace space_;
+};
+
 class Dataset {
  public:
   Dataset(Handle h, std::string file, std::string path) : h_(std::move(h)), file_(std::move(file)), path_(std::move(path)) {}
@@ -147,7 +166,12 @@ class Location {
   /// are not (the count is checked, on every rank alike), std::invalid_argument for sizes that do not fit.
   template <Element T>
   void write_rows(const std::string& name, std::span<const T> values, std::span<const std::int64_t> rows,
-                  const Shape& shape);
+                  const Shape& shape) {
+    write_rows(name, values, RowSelection(rows, shape));
+  }
+  /// The same with the rows selected beforehand (several datasets of one shape and the same rows).
+  template <Element T>
+  void write_rows(const std::string& name, std::span<const T> values, const RowSelection& rows);
 
   template <Element T>
   Array<T> read(const std::string& name) const {

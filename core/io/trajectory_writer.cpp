@@ -84,18 +84,17 @@ void TrajectoryWriter::write_frame(long step, double time, const Box& box, const
     h5::File file(h5_path_, h5::File::Mode::read_write, {.file_locking = false, .all_ranks = all_ranks_});
     {
       h5::Group g = file.create_unlinked_group({.small = true});
-      const std::span<const std::int64_t> rows(share.rows);
-      const std::size_t total = share.total;
-      g.write_rows<double>("position", position, rows, {total, 3});
-      g.write_rows<std::int64_t>("id", id, rows, {total});
-      g.write_rows<std::int32_t>("type", type, rows, {total});
-      g.write_rows<double>("radius", radius, rows, {total});
-      g.write_rows<double>("velocity", velocity, rows, {total, 3});
-      g.write_rows<double>("force", force, rows, {total, 3});
-      g.write_rows<std::int32_t>("group", group, rows, {total});
-      g.write_rows<double>("angular_velocity", omega, rows, {total, 3});
-      g.write_rows<std::int32_t>("image", image, rows, {total, 3});
-      g.write_rows<std::int32_t>("label", label, rows, {total});
+      const h5::RowSelection one(share.rows, {share.total}), three(share.rows, {share.total, 3});
+      g.write_rows<double>("position", position, three);
+      g.write_rows<std::int64_t>("id", id, one);
+      g.write_rows<std::int32_t>("type", type, one);
+      g.write_rows<double>("radius", radius, one);
+      g.write_rows<double>("velocity", velocity, three);
+      g.write_rows<double>("force", force, three);
+      g.write_rows<std::int32_t>("group", group, one);
+      g.write_rows<double>("angular_velocity", omega, three);
+      g.write_rows<std::int32_t>("image", image, three);
+      g.write_rows<std::int32_t>("label", label, one);
       // The legend of `label`, per frame: it travels with the particles (Particles::label_names).
       g.write_strings("label_names", p.label_names);
       const Vec3 lo = box.lo(), hi = box.hi();

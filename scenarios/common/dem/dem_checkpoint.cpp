@@ -91,13 +91,14 @@ void DemSimulation::write_checkpoint(const std::string& path, const std::string&
       std::vector<std::int64_t> rows;
       for (const int i : w.owned) rows.push_back(w.row[static_cast<std::size_t>(i)]);
       const auto n = static_cast<std::size_t>(w.particles), entries = static_cast<std::size_t>(w.entries);
+      const h5::RowSelection particle_rows(rows, {n});
       {
         h5::Group parts = f.create_group("particles");
         p_.for_each_column([&](const char* name, const auto& col) {
           using T = typename std::decay_t<decltype(col)>::value_type;
           std::vector<T> mine;
           for (const int i : w.owned) mine.push_back(col[static_cast<std::size_t>(i)]);
-          parts.write_rows<T>(name, mine, rows, {n});
+          parts.write_rows<T>(name, mine, particle_rows);
         });
       }
       // The list as built (rows and partners as rows of the whole system) and each entry's contact history.
@@ -123,19 +124,20 @@ void DemSimulation::write_checkpoint(const std::string& path, const std::string&
         offset_rows.push_back(w.particles);
         offset.push_back(static_cast<std::int32_t>(w.entries));
       }
+      const h5::RowSelection entry_selection(entry_rows, {entries});
       {
         h5::Group nl = f.create_group("neighbors");
         nl.write_rows<std::int32_t>("offset", offset, offset_rows, {n + 1});
-        nl.write_rows<std::int32_t>("index", index, entry_rows, {entries});
-        nl.write_rows<double>("x0", x0, rows, {n});
-        nl.write_rows<double>("y0", y0, rows, {n});
-        nl.write_rows<double>("z0", z0, rows, {n});
+        nl.write_rows<std::int32_t>("index", index, entry_selection);
+        nl.write_rows<double>("x0", x0, particle_rows);
+        nl.write_rows<double>("y0", y0, particle_rows);
+        nl.write_rows<double>("z0", z0, particle_rows);
       }
       {
         h5::Group hist = f.create_group("history");
-        hist.write_rows<double>("hx", hx, entry_rows, {entries});
-        hist.write_rows<double>("hy", hy, entry_rows, {entries});
-        hist.write_rows<double>("hz", hz, entry_rows, {entries});
+        hist.write_rows<double>("hx", hx, entry_selection);
+        hist.write_rows<double>("hy", hy, entry_selection);
+        hist.write_rows<double>("hz", hz, entry_selection);
       }
       f.close();
     }
