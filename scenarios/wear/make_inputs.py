@@ -20,6 +20,9 @@ CASES = {
     "6_seed3": dict(data="data/silica_d0_6nm_seed3.data", dt_fs=80, d0=6),
     "3_seed2": dict(data="data/silica_d0_3nm_seed2.data", dt_fs=40, d0=3),
     "3_seed3": dict(data="data/silica_d0_3nm_seed3.data", dt_fs=40, d0=3),
+    # And at d0 = 1.5 nm, where D = 20 nm rolls on seed 1: does it roll on every sample? (issue 29)
+    "1.5_seed2": dict(data="data/silica_d0_1.5nm_seed2.data", dt_fs=20, d0=1.5),
+    "1.5_seed3": dict(data="data/silica_d0_1.5nm_seed3.data", dt_fs=20, d0=1.5),
 }
 SETTLE_NS = 0.2      # settling under the load before sliding (the paper is silent): see README
 SLIDE_NS = 10.0      # 10 ns of sliding (Table 6)
@@ -61,7 +64,8 @@ def write(d0, D, load_mpa=100, settle=True, slide_ns=SLIDE_NS, variant="", folde
     duration: {SETTLE_NS} ns
     global_damping: 0.1
 """ if settle else ""
-    text = f"""# Sheared junction of paper A section 4 (Figs 9, 10, A.10): D = {D} nm, d0 = {d0} nm. Two amorphous silica
+    sample = f" (sample {seed.replace('seed', 'seed ')})" if seed else ""
+    text = f"""# Sheared junction of paper A section 4 (Figs 9, 10, A.10): D = {D} nm, d0 = {d0_label} nm{sample}. Two amorphous silica
 # bodies joined by a cylinder of diameter D and height D/2 (axis y), rigid walls {1.5 * d0_m * 1e9:g} nm (1.5 d0)
 # thick at the outer faces; the bottom wall is fixed, the top wall slides at 10 m/s along x under a normal
 # load of 100 MPa (y free), z fixed. Written by make_inputs.py from the relaxed sample in {case['data']}
