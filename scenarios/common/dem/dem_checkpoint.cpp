@@ -62,10 +62,11 @@ std::vector<T> read_sized(const h5::Location& g, const std::string& name, std::s
 }
 
 // Rows and list entries are int32 in the file (as in memory).
-void check_checkpoint_size(std::int64_t particles, std::int64_t entries, const std::string& path) {
+// (write_checkpoint_file turns it into the OutputError naming the checkpoint.)
+void check_checkpoint_size(std::int64_t particles, std::int64_t entries) {
   if (particles >= INT32_MAX || entries >= INT32_MAX)
-    throw output_error(path, "a checkpoint holds fewer than 2^31 particles and list entries; this one has " +
-                                 std::to_string(particles) + " and " + std::to_string(entries));
+    throw std::runtime_error("a checkpoint holds fewer than 2^31 particles and list entries; this one would have " +
+                             std::to_string(particles) + " and " + std::to_string(entries));
 }
 
 bool all_finite(const std::vector<double>& v) {
@@ -85,7 +86,7 @@ void DemSimulation::write_checkpoint(const std::string& path, const std::string&
     // First what is per particle and per list entry: cut among ranks, each rank writes its own rows of the
     // one file (collective); alone, the rows are all the rows.
     const WholeRows w = whole_rows(s);
-    check_checkpoint_size(w.particles, w.entries, path);
+    check_checkpoint_size(w.particles, w.entries);
     {
       h5::File f(tmp, h5::File::Mode::create, {.all_ranks = distributed_});
       std::vector<std::int64_t> rows;
