@@ -35,7 +35,7 @@ TrajectoryWriter::TrajectoryWriter(const std::string& dir, const std::string& st
   if (!all_ranks_ || comm::rank() == 0) write_xmf();
 }
 
-void TrajectoryWriter::write_frame(long step, double time, const Box& box, const Particles& p) {
+FrameShare FrameShare::all_of(const Particles& p) {
   FrameShare all;
   all.which.resize(p.size());
   std::iota(all.which.begin(), all.which.end(), 0);
@@ -45,7 +45,11 @@ void TrajectoryWriter::write_frame(long step, double time, const Box& box, const
   all.rows.resize(p.size());
   std::iota(all.rows.begin(), all.rows.end(), std::int64_t{0});
   all.total = p.size();
-  write_frame(step, time, box, p, all);
+  return all;
+}
+
+void TrajectoryWriter::write_frame(long step, double time, const Box& box, const Particles& p) {
+  write_frame(step, time, box, p, FrameShare::all_of(p));
 }
 
 void TrajectoryWriter::write_frame(long step, double time, const Box& box, const Particles& p, const FrameShare& share) {

@@ -42,6 +42,9 @@ struct FrameShare {
   std::vector<int> which;          // indices of its particles in its Particles, in increasing id
   std::vector<std::int64_t> rows;  // their rows in the frame (where their id stands among all ids)
   std::size_t total = 0;           // particles in the frame, on all ranks
+
+  /// The whole frame held by one process: all of `p`, sorted by id, in rows 0, 1, ...
+  static FrameShare all_of(const Particles& p);
 };
 
 class TrajectoryWriter {

@@ -44,17 +44,17 @@ void DemSimulation::remember_ids() {
 }
 
 FrameShare DemSimulation::frame_share() const {
+  if (!distributed_) return FrameShare::all_of(particles());  // the host copy as the device left it
   FrameShare share;
   for (std::size_t i = 0; i < p_.size(); ++i)
-    if (!distributed_ || owned_[i]) share.which.push_back(static_cast<int>(i));
+    if (owned_[i]) share.which.push_back(static_cast<int>(i));
   std::sort(share.which.begin(), share.which.end(),
             [&](int a, int b) { return p_.id[static_cast<std::size_t>(a)] < p_.id[static_cast<std::size_t>(b)]; });
   share.total = particle_count();
   share.rows.resize(share.which.size());
   for (std::size_t k = 0; k < share.which.size(); ++k) {
     const std::int64_t id = p_.id[static_cast<std::size_t>(share.which[k])];
-    if (!distributed_) share.rows[k] = static_cast<std::int64_t>(k);
-    else if (ids_in_order_.empty()) share.rows[k] = id - first_id_;
+    if (ids_in_order_.empty()) share.rows[k] = id - first_id_;
     else share.rows[k] = std::lower_bound(ids_in_order_.begin(), ids_in_order_.end(), id) - ids_in_order_.begin();
   }
   return share;

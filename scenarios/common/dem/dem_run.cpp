@@ -173,10 +173,11 @@ class DemRunModel final : public RunModel {
   bool frame_due(long step) const override { return due(cfg_.output.dump_every, step) || due(trajectory_every(), step); }
   void write_frame(bool every_stream) override {
     const long step = sim_.step_count();
-    if (every_stream || due(trajectory_every(), step)) {
-      if (sim_.distributed()) trajectory_->write_frame(step, sim_.time(), sim_.box(), sim_.particles(), sim_.frame_share());
-      else trajectory_->write_frame(step, sim_.time(), sim_.box(), sim_.particles());
-    }
+    // Read through the const accessor: a frame brings the particles back from the device (offload builds)
+    // without marking the host copy edited.
+    const DemSimulation& sim = sim_;
+    if (every_stream || due(trajectory_every(), step))
+      trajectory_->write_frame(step, sim.time(), sim.box(), sim.particles(), sim.frame_share());
     // The text dump is one stream: rank 0 writes it from the gathered system.
     if (every_stream || due(cfg_.output.dump_every, step))
       sim_.with_whole_system([&](const DemSimulation& whole) { dump_->write_frame(step, whole.box(), whole.particles()); });
