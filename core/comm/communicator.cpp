@@ -114,50 +114,48 @@ std::string first_message(const std::string& mine) {
   return text;
 }
 
-std::vector<std::vector<char>> gather_to_root(const std::vector<char>& mine) {
-  const int n = size(), me = rank();
-  std::int64_t bytes = static_cast<std::int64_t>(mine.size());
-  std::vector<std::int64_t> sizes(me == 0 ? static_cast<std::size_t>(n) : 0);
-  MPI_Gather(&bytes, 1, MPI_INT64_T, sizes.data(), 1, MPI_INT64_T, 0, kWorld);
+namespace {
+// Where each rank's bytes go in a gathered buffer: counts and displacements for MPI_(All)Gatherv.
+struct Layout {
   std::vector<int> counts, displs;
-  std::vector<char> all;
-  if (me == 0) {
-    std::size_t total = 0;
+  std::size_t total = 0;
+  explicit Layout(const std::vector<std::int64_t>& sizes) {
     for (const std::int64_t b : sizes) {
       counts.push_back(count_of(static_cast<std::size_t>(b)));
       displs.push_back(count_of(total));
       total += static_cast<std::size_t>(b);
     }
-    all.resize(total);
   }
-  MPI_Gatherv(mine.data(), count_of(mine.size()), MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE, 0,
+  /// The gathered buffer cut back into each rank's bytes.
+  std::vector<std::vector<char>> split(const std::vector<char>& all) const {
+    std::vector<std::vector<char>> out;
+    for (std::size_t r = 0; r < counts.size(); ++r) out.emplace_back(all.begin() + displs[r], all.begin() + displs[r] + counts[r]);
+    return out;
+  }
+};
+}  // namespace
+
+std::vector<std::vector<char>> gather_to_root(const std::vector<char>& mine) {
+  const int n = size(), me = rank();
+  std::int64_t bytes = static_cast<std::int64_t>(mine.size());
+  std::vector<std::int64_t> sizes(me == 0 ? static_cast<std::size_t>(n) : 0);
+  MPI_Gather(&bytes, 1, MPI_INT64_T, sizes.data(), 1, MPI_INT64_T, 0, kWorld);
+  const Layout at(sizes);  // empty on the other ranks
+  std::vector<char> all(at.total);
+  MPI_Gatherv(mine.data(), count_of(mine.size()), MPI_BYTE, all.data(), at.counts.data(), at.displs.data(), MPI_BYTE, 0,
               kWorld);
-  std::vector<std::vector<char>> out;
-  for (int r = 0; me == 0 && r < n; ++r)
-    out.emplace_back(all.begin() + displs[static_cast<std::size_t>(r)],
-                     all.begin() + displs[static_cast<std::size_t>(r)] + counts[static_cast<std::size_t>(r)]);
-  return out;
+  return at.split(all);
 }
 
 std::vector<std::vector<char>> gather_to_all(const std::vector<char>& mine) {
-  const int n = size();
   std::int64_t bytes = static_cast<std::int64_t>(mine.size());
-  std::vector<std::int64_t> sizes(static_cast<std::size_t>(n));
+  std::vector<std::int64_t> sizes(static_cast<std::size_t>(size()));
   MPI_Allgather(&bytes, 1, MPI_INT64_T, sizes.data(), 1, MPI_INT64_T, kWorld);
-  std::vector<int> counts, displs;
-  std::size_t total = 0;
-  for (const std::int64_t b : sizes) {
-    counts.push_back(count_of(static_cast<std::size_t>(b)));
-    displs.push_back(count_of(total));
-    total += static_cast<std::size_t>(b);
-  }
-  std::vector<char> all(total);
-  MPI_Allgatherv(mine.data(), count_of(mine.size()), MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE,
+  const Layout at(sizes);
+  std::vector<char> all(at.total);
+  MPI_Allgatherv(mine.data(), count_of(mine.size()), MPI_BYTE, all.data(), at.counts.data(), at.displs.data(), MPI_BYTE,
                  kWorld);
-  std::vector<std::vector<char>> out;
-  for (std::size_t r = 0; r < static_cast<std::size_t>(n); ++r)
-    out.emplace_back(all.begin() + displs[r], all.begin() + displs[r] + counts[r]);
-  return out;
+  return at.split(all);
 }
 
 void sendrecv(const std::vector<char>& out, int to, std::vector<char>& in, int from, int tag) {
