@@ -117,6 +117,15 @@ int Decomposition::index_along(const Box& box, int axis, double v) const {
   return i;
 }
 
+int Decomposition::step_along(const Box& box, int axis, double v) const {
+  const int n = grid_[axis], mine = coord_[axis], k = index_along(box, axis, v);
+  const bool periodic = box.periodic(axis);
+  if (k == mine) return 0;
+  if (k == mine + 1 || (periodic && mine == n - 1 && k == 0)) return +1;
+  if (k == mine - 1 || (periodic && mine == 0 && k == n - 1)) return -1;
+  return kTooFar;
+}
+
 int Decomposition::owner(const Box& box, double x, double y, double z) const {
   return rank_of({index_along(box, 0, x), index_along(box, 1, y), index_along(box, 2, z)});
 }

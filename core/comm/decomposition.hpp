@@ -48,6 +48,10 @@ class Decomposition {
   int index_along(const Box& box, int axis, double v) const;
   /// The rank that owns a point.
   int owner(const Box& box, double x, double y, double z) const;
+  /// Where coordinate v along `axis` sends what this rank holds at it: 0 when this rank's subdomain holds v,
+  /// -1 or +1 toward the next subdomain below or above (across a periodic face too), kTooFar beyond them.
+  static constexpr int kTooFar = 2;
+  int step_along(const Box& box, int axis, double v) const;
 
   /// Largest number of subdomains along each axis that keeps them 2 ghost_width wide (1 for an axis too
   /// short for two).

@@ -82,14 +82,19 @@ std::size_t unpack_grains(const std::vector<char>& in, GrainStore s) {
   return n;
 }
 
-// Puts the store's grains in increasing id of their first node (one process's order).
+// Sorts grain indices by the id of their first node (one process's order).
+void sort_by_first_id(const GrainStore& s, std::vector<int>& grains) {
+  std::sort(grains.begin(), grains.end(), [&](int a, int b) {
+    return first_id(s, static_cast<std::size_t>(a)) < first_id(s, static_cast<std::size_t>(b));
+  });
+}
+
+// Puts the store's grains in that order (stored again only when they are not in it already).
 void sort_grains(GrainStore s) {
   std::vector<int> order(s.grains.size());
   std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    return first_id(s, static_cast<std::size_t>(a)) < first_id(s, static_cast<std::size_t>(b));
-  });
-  select_grains(s, order);
+  sort_by_first_id(s, order);
+  if (!std::is_sorted(order.begin(), order.end())) select_grains(s, order);
 }
 
 }  // namespace
@@ -112,28 +117,26 @@ void keep_owned_grains(const Decomposition& d, const Box& box, GrainStore s) {
   std::vector<int> mine;
   for (std::size_t g = 0; g < s.grains.size(); ++g)
     if (d.owner(box, s.grains.cx[g], s.grains.cy[g], s.grains.cz[g]) == d.rank()) mine.push_back(static_cast<int>(g));
+  sort_by_first_id(s, mine);
   select_grains(s, mine);
-  sort_grains(s);
 }
 
 GrainExchangeCount exchange_grains(const Decomposition& d, const Box& box, GrainStore s) {
   refuse_walls(s.grains);
   GrainExchangeCount count;
   for (int a = 0; a < 3; ++a) {
-    const int n_axis = d.grid()[a];
-    if (n_axis == 1) continue;
+    if (d.grid()[a] == 1) continue;
     const int mine = d.coord()[a];
-    const bool periodic = box.periodic(a);
     const auto& centre = a == 0 ? s.grains.cx : (a == 1 ? s.grains.cy : s.grains.cz);
     std::vector<int> stay, to_below, to_above;
     for (std::size_t g = 0; g < s.grains.size(); ++g) {
-      const int k = d.index_along(box, a, centre[g]);
+      const int step = d.step_along(box, a, centre[g]);
       const int gi = static_cast<int>(g);
-      if (k == mine)
+      if (step == 0)
         stay.push_back(gi);
-      else if (k == mine + 1 || (periodic && mine == n_axis - 1 && k == 0))
+      else if (step == +1)
         to_above.push_back(gi);
-      else if (k == mine - 1 || (periodic && mine == 0 && k == n_axis - 1))
+      else if (step == -1)
         to_below.push_back(gi);
       else
         throw std::runtime_error("the grain of node " + std::to_string(first_id(s, g)) + " moved past the next rank along " +

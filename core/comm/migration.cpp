@@ -66,19 +66,17 @@ ExchangeCount exchange(const Decomposition& d, const Box& box, Particles& p, Pai
                            " particles, " + std::to_string(p.size()) + " given");
   ExchangeCount count;
   for (int a = 0; a < 3; ++a) {
-    const int n_axis = d.grid()[a];
-    if (n_axis == 1) continue;
+    if (d.grid()[a] == 1) continue;
     const int mine = d.coord()[a];
-    const bool periodic = box.periodic(a);
     std::vector<int> to_below, to_above;
     std::vector<char> leaves(p.size(), 0);
     const double* c = position(p, a);
     for (std::size_t i = 0; i < p.size(); ++i) {
-      const int k = d.index_along(box, a, c[i]);
-      if (k == mine) continue;
-      if (k == mine + 1 || (periodic && mine == n_axis - 1 && k == 0))
+      const int step = d.step_along(box, a, c[i]);
+      if (step == 0) continue;
+      if (step == +1)
         to_above.push_back(static_cast<int>(i));
-      else if (k == mine - 1 || (periodic && mine == 0 && k == n_axis - 1))
+      else if (step == -1)
         to_below.push_back(static_cast<int>(i));
       else
         throw std::runtime_error("particle " + std::to_string(p.id[i]) + " moved past the next rank along " +
