@@ -61,9 +61,13 @@ void pd_grain_centres(const PdNodes& nodes, PdGrains& grains, PdContactWork& wor
   }
 }
 
-void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& nodes, PdGrains& grains,
-                     const PdContactList& list, PdContactWork& work, double dt) {
-  check_sizes(table, nodes, grains, list);
+namespace {
+
+// The node pairs of pd_contact_pass. kGivenCounts: the length of each partner's row comes from
+// work.row_count (a rank's ghosts, whose rows here are partial) instead of the list's offsets.
+template <bool kGivenCounts>
+void node_pair_forces(const PdContactTable& table, PdDamping damping, PdNodes& nodes, const PdGrains& grains,
+                      const PdContactList& list, const PdContactWork& work, double dt) {
   const int n = list.rows();
   const int* __restrict offset = list.offset().data();
   const int* __restrict index = list.index().data();
@@ -80,11 +84,12 @@ void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& no
 
   // Node pairs: eqs 16-20, and eqs 21-25 with node damping. Each pair is evaluated from both ends with
   // the same operations on negated differences, so the two ends get exactly opposite forces.
-  DEBRIS_RESIDENT(offset, index, x, y, z, vx, vy, vz, volume, mass, fx, fy, fz, grain, material, kind, pairs);
+  const int* __restrict row_count = kGivenCounts ? work.row_count.data() : offset;
+  DEBRIS_RESIDENT(offset, index, x, y, z, vx, vy, vz, volume, mass, fx, fy, fz, grain, material, kind, pairs, row_count);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
-    const int count = offset[i + 1] - offset[i];
-    if (count == 0) continue;
+    if (offset[i + 1] == offset[i]) continue;
+    const int count = kGivenCounts ? row_count[i] : offset[i + 1] - offset[i];
     const int gi = grain[i];
     const int mat_i = material[gi] * nm;
     const int rigid_i = kind[gi] == wall;
@@ -96,7 +101,8 @@ void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& no
       const int j = index[k];
       const int gj = grain[j];
       const int rigid_j = kind[gj] == wall;
-      const double share_j = mass[j] / static_cast<double>(offset[j + 1] - offset[j]);
+      const int count_j = kGivenCounts ? row_count[j] : offset[j + 1] - offset[j];
+      const double share_j = mass[j] / static_cast<double>(count_j);
       const double stick = pd_stick_mass(share_i, rigid_i, share_j, rigid_j);
       const double m_eq = pd_damping_mass(mass_i, rigid_i, mass[j], rigid_j);
       const PdContactPairResult r = pd_contact_pair_force(pairs[mat_i + material[gj]], Vec3{x[j], y[j], z[j]} - zi,
@@ -108,10 +114,41 @@ void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& no
     fy[i] += f.y;
     fz[i] += f.z;
   }
-  if (damping != PdDamping::grain_centres) return;
+}
 
-  // Damping between grain centres, eqs 26-30.
+}  // namespace
+
+void pd_node_pair_forces(const PdContactTable& table, PdDamping damping, PdNodes& nodes, const PdGrains& grains,
+                         const PdContactList& list, const PdContactWork& work, double dt) {
+  check_sizes(table, nodes, grains, list);
+  if (work.row_count.empty()) return node_pair_forces<false>(table, damping, nodes, grains, list, work, dt);
+  if (work.row_count.size() != nodes.size())
+    throw std::logic_error("pd contact: one given row count per node is needed");
+  node_pair_forces<true>(table, damping, nodes, grains, list, work, dt);
+}
+
+void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& nodes, PdGrains& grains,
+                     const PdContactList& list, PdContactWork& work, double dt) {
+  pd_node_pair_forces(table, damping, nodes, grains, list, work, dt);
+  if (damping != PdDamping::grain_centres) return;
   pd_grain_centres(nodes, grains, work);
+  pd_centre_damping(table, nodes, grains, list, work);
+}
+
+void pd_centre_damping(const PdContactTable& table, PdNodes& nodes, const PdGrains& grains, const PdContactList& list,
+                       PdContactWork& work) {
+  // Damping between grain centres, eqs 26-30.
+  check_sizes(table, nodes, grains, list);
+  const int n = list.rows();
+  const double* __restrict x = nodes.x.data(), *__restrict y = nodes.y.data(), *__restrict z = nodes.z.data();
+  const double* __restrict vx = nodes.vx.data(), *__restrict vy = nodes.vy.data(), *__restrict vz = nodes.vz.data();
+  const double* __restrict volume = nodes.volume.data();
+  double* __restrict fx = nodes.fx.data(), *__restrict fy = nodes.fy.data(), *__restrict fz = nodes.fz.data();
+  const int* __restrict grain = nodes.grain.data();
+  const int* __restrict material = grains.material.data(), *__restrict kind = grains.kind.data();
+  const PdContactParams* __restrict pairs = table.pairs.data();
+  const int nm = table.materials;
+  const int wall = static_cast<int>(PdGrainKind::wall);
   const int ns = list.slots(), ng = static_cast<int>(grains.size());
   for (auto* v : {&work.slot_fx, &work.slot_fy, &work.slot_fz}) v->resize(static_cast<std::size_t>(ns));
   for (auto* v : {&work.grain_fx, &work.grain_fy, &work.grain_fz}) v->resize(static_cast<std::size_t>(ng));

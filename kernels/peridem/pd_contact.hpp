@@ -51,6 +51,10 @@ struct PdContactWork {
   // stay the means.
   exec::DeviceVector<int> centre_node;
   exec::DeviceVector<double> node_cx, node_cy, node_cz, node_cvx, node_cvy, node_cvz;  // scratch for centre_node
+  // When not empty (one per node): the length of each node's row of the contact list, to use in place of the
+  // list's own. A rank's list holds partial rows for its ghost nodes; their owners' counts are given here
+  // (the friction's stick mass of eq 20 shares a node's mass among its row, pd_contact_force.hpp).
+  exec::DeviceVector<int> row_count;
 };
 
 /// Per-grain reduction: volume-weighted centre and mean velocity of every grain into grains.cx .. cvz, and
@@ -63,6 +67,15 @@ void pd_grain_centres(const PdNodes& nodes, PdGrains& grains, PdContactWork& wor
 /// With grain_centres, refreshes the grain centres first (pd_grain_centres).
 void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& nodes, PdGrains& grains,
                      const PdContactList& list, PdContactWork& work, double dt);
+
+/// pd_contact_pass in two parts, for a caller that puts grain centres in between (a rank sets its ghost
+/// grains' centres from their owners): the node pairs (eqs 16-20, and 21-25 with node damping), then, for
+/// grain_centres, the damping between grain centres (eqs 26-30) from grains.cx .. cvz and work.grain_volume,
+/// grain_mass as they stand (pd_grain_centres, or given). Same operations in the same order as pd_contact_pass.
+void pd_node_pair_forces(const PdContactTable& table, PdDamping damping, PdNodes& nodes, const PdGrains& grains,
+                         const PdContactList& list, const PdContactWork& work, double dt);
+void pd_centre_damping(const PdContactTable& table, PdNodes& nodes, const PdGrains& grains, const PdContactList& list,
+                       PdContactWork& work);
 
 /// Total force on each wall grain (the sum over its nodes, in node order; particles get zero): the wall's
 /// reaction. Call it after the force passes: wall nodes receive contact forces only (no bonds, no gravity).
