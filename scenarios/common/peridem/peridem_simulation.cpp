@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 
+#include "core/comm/communicator.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/pass_timer.hpp"
@@ -239,8 +240,12 @@ void PeridemSimulation::compute_forces() {
     list_.add_broken_bonds(bonds_);
     ++times_.self_contact_updates;
   }
+  if (distributed_) share_row_counts();  // a rank's broken bonds lengthen its rows: its ghosts elsewhere learn it
   const PassTimer timer(times_.contact);  // eqs 16-30
-  pd_contact_pass(table_, settings_.damping, nodes_, grains_, list_, work_, settings_.time_step);
+  if (!distributed_) return pd_contact_pass(table_, settings_.damping, nodes_, grains_, list_, work_, settings_.time_step);
+  // The grain centres (the ghosts' from their owners) are current since refresh_ghosts().
+  pd_node_pair_forces(table_, settings_.damping, nodes_, grains_, list_, work_, settings_.time_step);
+  if (settings_.damping == PdDamping::grain_centres) pd_centre_damping(table_, nodes_, grains_, list_, work_);
 }
 
 void PeridemSimulation::step() {
@@ -253,7 +258,16 @@ void PeridemSimulation::step() {
   }
   ++step_;
   time_ += settings_.time_step;
-  if (list_.needs_rebuild(nodes_)) rebuild_contacts();
+  if (!distributed_) {
+    if (list_.needs_rebuild(nodes_)) rebuild_contacts();
+    return compute_forces();
+  }
+  // Ghosts first, so that every rank judges the list by the positions one process has (a ghost drifts as
+  // its owner); the build is then one decision of all ranks.
+  refresh_ghosts();
+  double rebuild = list_.needs_rebuild(nodes_) ? 1.0 : 0.0;
+  comm::allreduce_max(&rebuild, 1);
+  if (rebuild > 0) rebuild_distributed();
   compute_forces();
 }
 

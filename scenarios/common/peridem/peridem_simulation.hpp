@@ -23,6 +23,9 @@
 #include <vector>
 
 #include "core/bond_list.hpp"
+#include "core/box.hpp"
+#include "core/comm/decomposition.hpp"
+#include "core/comm/pd_halo.hpp"
 #include "core/exec.hpp"
 #include "core/pd_contact_list.hpp"
 #include "core/pd_nodes.hpp"
@@ -61,6 +64,7 @@ struct PeridemPassTimes {
   double other = 0;        // zeroing forces, gravity
   long rebuilds = 0;       // contact list rebuilds in that time
   long self_contact_updates = 0;  // steps whose broken bonds were added to the list in place
+  long grains_migrated = 0;       // grains this rank sent to another at list builds (a run cut among ranks)
 };
 
 /// Sums over the system at one instant.
@@ -89,6 +93,19 @@ class PeridemSimulation {
 
   void step();
   void run(long steps);
+
+  /// Cuts the run among the MPI ranks (collective; every rank constructed the same whole system): each rank
+  /// keeps the grains whose centre its subdomain holds, and from then on steps them with ghost copies of the
+  /// nodes of other ranks' grains within reach (core/comm/pd_halo). Every owned node's position, velocity
+  /// and force are then the bits one process computes (peridem_ranks.cpp says how). `rank_grid`: Px, Py, Pz,
+  /// or zeros for the grid with the least surface. InputError ("run.ranks") when the ranks cannot share the
+  /// grains: a grain wider than a subdomain allows. Walls and centre-node damping are refused until they
+  /// are cut among ranks (issue 27).
+  void distribute(std::array<int, 3> rank_grid = {0, 0, 0});
+  bool distributed() const { return distributed_; }
+  /// Per node held: 1 for this rank's own nodes, 0 for ghost copies (empty: one process, every node its own).
+  const std::vector<unsigned char>& owned_nodes() const { return halo_.owned_nodes(); }
+  const comm::Decomposition& decomposition() const { return decomposition_; }
 
   // State. The accessors return the host copies, current (offload builds: copied back from the device if a
   // kernel changed them); the non-const ones count as an edit, sent to the device before the next kernel.
@@ -203,6 +220,13 @@ class PeridemSimulation {
   static PeridemSimulation restore(const h5::File& f, std::string* input_echo);
   void compute_forces();
   void rebuild_contacts();
+  // A run cut among ranks (peridem_ranks.cpp): the list build that migrates grains and lays the ghosts, the
+  // ghosts' positions, velocities and grain centres from their owners, and the owners' row lengths.
+  void rebuild_distributed();
+  void refresh_ghosts();
+  void share_row_counts();
+  double ghost_width() const;
+  bool owns_node(std::size_t i) const { return !distributed_ || halo_.owned_nodes()[i]; }
   // Residency (offload builds; no-ops in host builds). *_stale_: kernels changed the device copies since the
   // host's were refreshed; *_edited_: the host copies were changed, the device's are not current (the host
   // edits nodes and grains only: bonds and the contact list are the kernels').
@@ -252,6 +276,12 @@ class PeridemSimulation {
   mutable exec::DeviceVector<Vec3> reactions_;
   mutable bool nodes_stale_ = false, grains_stale_ = false, pairs_stale_ = false;
   mutable bool nodes_edited_ = true, grains_edited_ = true;  // as constructed: on the host only
+  // Cut among ranks: the decomposition of a box around the nodes at the set-up (walled on every axis), and
+  // the ghost layer.
+  bool distributed_ = false;
+  comm::Decomposition decomposition_;
+  Box box_;
+  comm::PdHalo halo_;
 };
 
 /// h of eq 35 per grain, minimised: the smallest reference distance between two nodes of one grain (the

@@ -1,0 +1,149 @@
+// PeridemSimulation cut among MPI ranks (shared/design/scale-mpi.md, section 5; issue 27). A grain belongs
+// whole to the rank whose subdomain holds its centre, so bonds, bond breaking and the per-grain sums stay on
+// that rank; only contact needs copies of other ranks' nodes (core/comm/pd_halo).
+//
+// Why an owned node's force has one process's bits on any rank count:
+//  - a rank stores its nodes (owned and ghosts) in increasing id and its grains in increasing id of their
+//    first node, as one process does (there the ids increase with the index: distribute() checks it), so
+//    an owned node's contact row lists the same partners in the same order, and the grain-pair slots of an
+//    owned grain are one process's slots;
+//  - bonds and their sums are the owned grain's own, in its own node order;
+//  - a ghost's position, velocity, grain centre and grain mass are its owner's (refresh_ghosts() after every
+//    integration), and so is the length of its contact row (share_row_counts(): the friction's stick mass
+//    of eq 20 divides a node's mass among its row; a ghost's row here is partial);
+//  - the list is rebuilt on the step one process rebuilds it (the largest drift over all ranks, from the
+//    positions one process has), and the ghost width covers every pair that can come within R_c before the
+//    next build: the largest grain extent from its centre plus R_c plus the skin.
+// Ghost nodes are integrated and get forces like owned ones (the kernels do not tell them apart); those
+// values are overwritten by their owners' before anything reads them.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "core/comm/communicator.hpp"
+#include "core/comm/grain_migration.hpp"
+#include "core/error.hpp"
+#include "core/exit_status.hpp"
+#include "core/pass_timer.hpp"
+#include "scenarios/common/peridem/peridem_simulation.hpp"
+
+namespace debris {
+
+double PeridemSimulation::ghost_width() const {
+  // How far any node of a grain reaches past its grain's owner's subdomain (at a build every owned grain's
+  // centre lies inside it), over all ranks, plus the contact reach. Before the ranks are cut: the farthest
+  // any node lies from its grain's centre (grains.cx .. cz current), which bounds that reach.
+  double reach = 0;
+  for (std::size_t g = 0; g < grains_.size(); ++g) {
+    if (distributed_ && !halo_.owned_grains()[g]) continue;
+    for (int i = grains_.node_begin[g]; i < grains_.node_end[g]; ++i) {
+      if (distributed_) {
+        const double p[3] = {nodes_.x[i], nodes_.y[i], nodes_.z[i]};
+        // (The first and last subdomains of an axis reach past the box: no face there.)
+        for (int a = 0; a < 3; ++a) {
+          const int c = decomposition_.coord()[a];
+          if (c > 0) reach = std::max(reach, decomposition_.sub_lo(box_, a) - p[a]);
+          if (c < decomposition_.grid()[a] - 1) reach = std::max(reach, p[a] - decomposition_.sub_hi(box_, a));
+        }
+      } else {
+        const double dx = nodes_.x[i] - grains_.cx[g], dy = nodes_.y[i] - grains_.cy[g], dz = nodes_.z[i] - grains_.cz[g];
+        reach = std::max(reach, std::sqrt(dx * dx + dy * dy + dz * dz));
+      }
+    }
+  }
+  if (distributed_) comm::allreduce_max(&reach, 1);
+  return reach + table_.max_contact_radius() + skin_;
+}
+
+void PeridemSimulation::distribute(std::array<int, 3> rank_grid) {
+  if constexpr (exec::offload_build())
+    throw std::runtime_error("a PeriDEM run cut among MPI ranks runs on host threads so far: use a host build under mpirun");
+  if (distributed_) throw std::logic_error("PeridemSimulation::distribute: already distributed");
+  for (std::size_t g = 0; g < grains_.size(); ++g)
+    if (grains_.kind[g] == static_cast<int>(PdGrainKind::wall))
+      throw input_error("walls." + grain_names_[g], "(a wall)",
+                        "walls are not cut among MPI ranks yet (issue 27): run this input as one process");
+  if (settings_.damping_centre_node)
+    throw input_error("damping_centre_node", "true", "is not cut among MPI ranks yet: run it as one process");
+  for (std::size_t i = 1; i < nodes_.size(); ++i)
+    if (nodes_.id[i] <= nodes_.id[i - 1])
+      throw std::logic_error("PeridemSimulation::distribute: node ids must increase with the index, grain after grain");
+  state_to_host();
+  pd_grain_centres(nodes_, grains_, work_);
+  const double width = ghost_width();
+
+  // A box around the nodes as placed, walled on every axis (the end subdomains reach past it); an axis
+  // shorter than four ghost widths (the flat axis of a 2D run) is never cut.
+  Vec3 lo{nodes_.x[0], nodes_.y[0], nodes_.z[0]}, hi = lo;
+  for (std::size_t i = 0; i < nodes_.size(); ++i) {
+    lo = {std::min(lo.x, nodes_.x[i]), std::min(lo.y, nodes_.y[i]), std::min(lo.z, nodes_.z[i])};
+    hi = {std::max(hi.x, nodes_.x[i]), std::max(hi.y, nodes_.y[i]), std::max(hi.z, nodes_.z[i])};
+  }
+  hi = {std::max(hi.x, lo.x + width), std::max(hi.y, lo.y + width), std::max(hi.z, lo.z + width)};
+  box_ = Box(lo, hi, {false, false, false});
+  decomposition_ = comm::Decomposition::make(box_, comm::size(), comm::rank(), width, rank_grid, "run.ranks");
+
+  comm::GrainStore store{nodes_, grains_, bonds_};
+  comm::keep_owned_grains(decomposition_, box_, store);
+  halo_.set_owned(nodes_.size(), grains_.size());
+  distributed_ = true;
+  halo_.borders(decomposition_, box_, ghost_width(), store);
+  refresh_ghosts();
+  // The list of the constructor again, now of this rank's nodes (not counted: one process built it once).
+  list_.build(nodes_, grains_, bonds_, table_.max_contact_radius(), skin_);
+  // The forces of step 0 came from the constructor and travelled with the nodes.
+}
+
+void PeridemSimulation::refresh_ghosts() {
+  pd_grain_centres(nodes_, grains_, work_);
+  halo_.forward(nodes_, grains_, work_.grain_mass);
+}
+
+void PeridemSimulation::share_row_counts() {
+  const std::size_t n = nodes_.size();
+  work_.row_count.resize(n);
+  const auto& offset = list_.offset();
+  for (std::size_t i = 0; i < n; ++i) work_.row_count[i] = offset[i + 1] - offset[i];
+  halo_.forward_counts(work_.row_count.data());
+}
+
+void PeridemSimulation::rebuild_distributed() {
+  const PassTimer timer(times_.neighbours);
+  // The ghosts go (their owners send them again); grains whose centre left the subdomain move to its owner.
+  std::vector<int> mine;
+  for (std::size_t g = 0; g < grains_.size(); ++g)
+    if (halo_.owned_grains()[g]) mine.push_back(static_cast<int>(g));
+  comm::GrainStore store{nodes_, grains_, bonds_};
+  comm::select_grains(store, mine);
+  try {
+    times_.grains_migrated += static_cast<long>(comm::exchange_grains(decomposition_, box_, store).sent);
+  } catch (const std::runtime_error& e) {
+    // A grain flew past the next rank: the run has blown up, and only this rank knows.
+    std::fprintf(stderr, "error (rank %d): %s; is the time step stable?\n", comm::rank(), e.what());
+    comm::abort(kExitUnfinished);
+  }
+  halo_.set_owned(nodes_.size(), grains_.size());
+  // Grains deform and break: the width follows their reach, within what the subdomains allow.
+  const double width = ghost_width();
+  for (int a = 0; a < 3; ++a) {
+    if (decomposition_.grid()[a] == 1) continue;
+    double shortest = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < decomposition_.grid()[a]; ++c)
+      shortest = std::min(shortest, decomposition_.cut(box_, a, c + 1) - decomposition_.cut(box_, a, c));
+    if (2 * width > shortest * (1 + 1e-12))
+      throw input_error("run.ranks", decomposition_.describe(),
+                        "at step " + std::to_string(step_) + " a grain reaches " + format_value(width) +
+                            " m with its contact reach, more than half of a subdomain (" + format_value(shortest) +
+                            " m along " + std::string(1, "xyz"[a]) + "): run on fewer ranks");
+  }
+  halo_.borders(decomposition_, box_, width, store);
+  refresh_ghosts();
+  list_.build(nodes_, grains_, bonds_, table_.max_contact_radius(), skin_);
+  ++rebuilds_;
+  ++times_.rebuilds;
+}
+
+}  // namespace debris
