@@ -110,16 +110,19 @@ struct PdGrains {
   exec::DeviceVector<double> cx, cy, cz, cvx, cvy, cvz;
   // Prescribed wall velocity (used for kind == wall; zero = fixed wall).
   exec::DeviceVector<double> wall_vx, wall_vy, wall_vz;
+  // The grain's index in the whole system (one process's grain index; set by PeridemSimulation). A rank of a
+  // run cut among processes holds some grains, or pieces of a wall, and knows them by it.
+  exec::DeviceVector<int> id;
 
   std::size_t size() const { return node_begin.size(); }
   void resize(std::size_t n) {
-    for (auto* v : {&node_begin, &node_end, &kind, &material}) v->resize(n);
+    for (auto* v : {&node_begin, &node_end, &kind, &material, &id}) v->resize(n);
     for (auto* v : {&volume, &cx, &cy, &cz, &cvx, &cvy, &cvz, &wall_vx, &wall_vy, &wall_vz}) v->resize(n);
   }
   /// The grain columns (integers first, then doubles), for transfers.
   template <class F>
   void for_each_column(F&& f) const {
-    for (auto* v : {&node_begin, &node_end, &kind, &material}) f(*v);
+    for (auto* v : {&node_begin, &node_end, &kind, &material, &id}) f(*v);
     for (auto* v : {&volume, &cx, &cy, &cz, &cvx, &cvy, &cvz, &wall_vx, &wall_vy, &wall_vz}) f(*v);
   }
 };

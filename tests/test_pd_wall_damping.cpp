@@ -22,6 +22,7 @@
 
 #include "scenarios/common/peridem/peridem_input.hpp"
 #include "scenarios/common/peridem/peridem_simulation.hpp"
+#include "tests/pd_on_device.hpp"
 
 namespace debris {
 namespace {
@@ -169,6 +170,42 @@ TEST(PdWallDamping, ElasticReboundIsLossless) {
       EXPECT_LE(r.restitution, 1.0 + 1e-4);
       EXPECT_GT(r.restitution, 0.99);
     }
+}
+
+// wall_reactions() adds every pair force and damping share the wall exerts, each exactly, from the particles'
+// end (pd_wall_reaction_sums: the same bits on any rank count); the wall's own node forces, added in node order,
+// are the same sum rounded along the way. Through an impact with friction (a sliding disc) and both dampings,
+// the two agree to 1e-9 of the reaction's size, and the reaction pushes the floor down.
+TEST(PdWallDamping, WallReactionIsTheSumOfTheWallsNodeForces) {
+  for (const std::string damping : {"grain_centres", "node_pairs"}) {
+    SCOPED_TRACE(damping);
+    std::string text = drop_input(true, damping, 0.5);
+    text.replace(text.find("friction: 0"), 11, "friction: 0.4");
+    text.replace(text.find("velocity: [0, -1 m/s, 0]"), 24, "velocity: [0.5 m/s, -1 m/s, 0]");
+    PeridemInputOptions o;
+    o.output_directory = ::testing::TempDir();
+    PeridemRunConfig cfg = read_peridem_input_text(text, "wall_reaction", ".", o);
+    PeridemSimulation sim(std::move(cfg.nodes), std::move(cfg.grains), cfg.materials, cfg.contact, cfg.settings);
+    const PeridemSimulation& view = sim;
+    const int floor = 1;
+    ASSERT_EQ(view.grains().kind[floor], static_cast<int>(PdGrainKind::wall));
+    int compared = 0;
+    for (int s = 0; s < 4000 && compared < 20; s += 20) {
+      sim.run(20);
+      if (sim.touching_pairs() == 0) continue;
+      std::vector<Vec3> node_sums;
+      test::pd_wall_reactions(view.nodes(), view.grains(), node_sums);
+      const std::vector<Vec3> exact = sim.wall_reactions();
+      ASSERT_EQ(exact.size(), view.grains().size());
+      const double size = std::hypot(node_sums[floor].x, node_sums[floor].y);
+      EXPECT_LT(node_sums[floor].y, 0) << "step " << sim.step_count();
+      EXPECT_NEAR(exact[floor].x, node_sums[floor].x, 1e-9 * size) << "step " << sim.step_count();
+      EXPECT_NEAR(exact[floor].y, node_sums[floor].y, 1e-9 * size) << "step " << sim.step_count();
+      EXPECT_EQ(exact[0].x, 0.0);  // the disc is no wall
+      ++compared;
+    }
+    EXPECT_EQ(compared, 20) << "the disc never reached the floor";
+  }
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -18,47 +19,43 @@ namespace {
 int tag_of(int axis, int dir) { return 300 + 2 * axis + (dir > 0 ? 1 : 0); }
 
 // A grain's record beside its node range: what travels with it.
-constexpr std::array<exec::DeviceVector<int> PdGrains::*, 2> kIntColumns{&PdGrains::kind, &PdGrains::material};
+constexpr std::array<exec::DeviceVector<int> PdGrains::*, 3> kIntColumns{&PdGrains::kind, &PdGrains::material,
+                                                                         &PdGrains::id};
 constexpr std::array<exec::DeviceVector<double> PdGrains::*, 10> kDoubleColumns{
     &PdGrains::volume, &PdGrains::cx,  &PdGrains::cy,      &PdGrains::cz,      &PdGrains::cvx,
     &PdGrains::cvy,    &PdGrains::cvz, &PdGrains::wall_vx, &PdGrains::wall_vy, &PdGrains::wall_vz};
 
-void refuse_walls(const PdGrains& g) {
-  for (std::size_t k = 0; k < g.size(); ++k)
-    if (g.kind[k] == static_cast<int>(PdGrainKind::wall))
-      throw std::logic_error("comm: walls are not cut among ranks yet (grain " + std::to_string(k) + " is a wall)");
-}
+bool is_wall(const PdGrains& g, std::size_t k) { return g.kind[k] == static_cast<int>(PdGrainKind::wall); }
 
-std::int64_t first_id(const GrainStore& s, std::size_t g) {
-  return s.nodes.id[static_cast<std::size_t>(s.grains.node_begin[g])];
-}
-
-// Appends grain g whole: record, nodes, bond rows with partners counted from the grain's first node.
-void pack_grain(const GrainStore& s, std::size_t g, std::vector<char>& out) {
+// Appends a piece of grain g: its record and the nodes `rows` (all of a particle grain, in order; any of a
+// wall's), with their bond rows, partners counted from rows.front() (a particle grain's bonds stay within it;
+// walls have none).
+void pack_piece(const GrainStore& s, std::size_t g, const std::vector<int>& rows, std::vector<char>& out) {
   for (const auto m : kIntColumns) pack_value((s.grains.*m)[g], out);
   for (const auto m : kDoubleColumns) pack_value((s.grains.*m)[g], out);
-  const int begin = s.grains.node_begin[g], end = s.grains.node_end[g];
-  std::vector<int> rows(static_cast<std::size_t>(end - begin));
-  std::iota(rows.begin(), rows.end(), begin);
   pack_records(s.nodes, rows, out);
+  const int base = rows.empty() ? 0 : rows.front();
+  const bool bonded = !s.bonds.offset.empty();
   for (const int i : rows) {
     const auto u = static_cast<std::size_t>(i);
-    pack_value(static_cast<std::int32_t>(s.bonds.offset[u + 1] - s.bonds.offset[u]), out);
-    for (int e = s.bonds.offset[u]; e < s.bonds.offset[u + 1]; ++e) {
+    const int first = bonded ? s.bonds.offset[u] : 0, last = bonded ? s.bonds.offset[u + 1] : 0;
+    pack_value(static_cast<std::int32_t>(last - first), out);
+    for (int e = first; e < last; ++e) {
       const auto ue = static_cast<std::size_t>(e);
-      pack_value(static_cast<std::int32_t>(s.bonds.partner[ue] - begin), out);
+      pack_value(static_cast<std::int32_t>(s.bonds.partner[ue] - base), out);
       pack_value(s.bonds.length0[ue], out);
       pack_value(s.bonds.broken[ue], out);
     }
   }
 }
 
-// Appends the grains of a message to the store; returns how many.
-std::size_t unpack_grains(const std::vector<char>& in, GrainStore s) {
+// Appends the pieces of a message, each as a grain of its own (pieces of one wall are merged by
+// sort_store); returns how many.
+std::size_t unpack_pieces(const std::vector<char>& in, GrainStore s) {
   if (in.empty()) return 0;
   Unpacker u(in);
   const auto n = static_cast<std::size_t>(u.value<std::int64_t>());
-  if (s.bonds.offset.empty()) s.bonds.offset.push_back(0);
+  if (s.bonds.offset.empty()) s.bonds.offset.assign(s.nodes.size() + 1, 0);
   for (std::size_t a = 0; a < n; ++a) {
     const std::size_t k = s.grains.size();
     s.grains.resize(k + 1);
@@ -82,85 +79,182 @@ std::size_t unpack_grains(const std::vector<char>& in, GrainStore s) {
   return n;
 }
 
-// Sorts grain indices by the id of their first node (one process's order).
-void sort_by_first_id(const GrainStore& s, std::vector<int>& grains) {
-  std::sort(grains.begin(), grains.end(), [&](int a, int b) {
-    return first_id(s, static_cast<std::size_t>(a)) < first_id(s, static_cast<std::size_t>(b));
-  });
-}
+double node_at_of(const GrainStore& s, int axis, int i) { return position(s.nodes, axis)[i]; }
 
-// Puts the store's grains in that order (stored again only when they are not in it already).
-void sort_grains(GrainStore s) {
-  std::vector<int> order(s.grains.size());
-  std::iota(order.begin(), order.end(), 0);
-  sort_by_first_id(s, order);
-  if (!std::is_sorted(order.begin(), order.end())) select_grains(s, order);
+// The whole system's identity of the grain of node i: its id.
+int grain_id_of(const GrainStore& s, std::size_t i) {
+  return s.grains.id[static_cast<std::size_t>(s.nodes.grain[i])];
 }
 
 }  // namespace
 
-void select_grains(GrainStore s, const std::vector<int>& which) {
-  std::vector<char> packed;
-  pack_value(static_cast<std::int64_t>(which.size()), packed);
-  for (const int g : which) pack_grain(s, static_cast<std::size_t>(g), packed);
+std::vector<int> sort_store(GrainStore s) {
+  const std::size_t n = s.nodes.size();
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return s.nodes.id[static_cast<std::size_t>(a)] < s.nodes.id[static_cast<std::size_t>(b)];
+  });
+  std::vector<int> now(n);
+  for (std::size_t i = 0; i < n; ++i) now[static_cast<std::size_t>(order[i])] = static_cast<int>(i);
+
+  // Grains: one per id among the nodes, in increasing id; a grain's record from the first grain of its id.
+  std::vector<int> ids(n), record_of;
+  for (std::size_t i = 0; i < n; ++i) ids[i] = grain_id_of(s, i);
+  std::vector<int> grain_ids(ids);
+  std::sort(grain_ids.begin(), grain_ids.end());
+  grain_ids.erase(std::unique(grain_ids.begin(), grain_ids.end()), grain_ids.end());
+  const auto index_of = [&](int id) {
+    return static_cast<int>(std::lower_bound(grain_ids.begin(), grain_ids.end(), id) - grain_ids.begin());
+  };
+  record_of.assign(grain_ids.size(), -1);
+  for (std::size_t g = s.grains.size(); g-- > 0;) {  // backwards: the first grain of an id wins
+    const auto it = std::lower_bound(grain_ids.begin(), grain_ids.end(), s.grains.id[g]);
+    if (it != grain_ids.end() && *it == s.grains.id[g]) record_of[static_cast<std::size_t>(it - grain_ids.begin())] = static_cast<int>(g);
+  }
+  const PdGrains old = s.grains;
+  s.grains.resize(grain_ids.size());
+  for (std::size_t g = 0; g < grain_ids.size(); ++g) {
+    const auto from = static_cast<std::size_t>(record_of[g]);
+    for (const auto m : kIntColumns) (s.grains.*m)[g] = (old.*m)[from];
+    for (const auto m : kDoubleColumns) (s.grains.*m)[g] = (old.*m)[from];
+    s.grains.node_begin[g] = s.grains.node_end[g] = -1;
+  }
+
+  s.nodes.for_each_column([&](const char*, auto& col) {
+    using T = typename std::decay_t<decltype(col)>::value_type;
+    const std::vector<T> was(col.begin(), col.end());
+    for (std::size_t i = 0; i < n; ++i) col[i] = was[static_cast<std::size_t>(order[i])];
+  });
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i > 0 && s.nodes.id[i] == s.nodes.id[i - 1])
+      throw std::logic_error("comm: node " + std::to_string(s.nodes.id[i]) + " is held twice");
+    const int g = index_of(ids[static_cast<std::size_t>(order[i])]);
+    const auto ug = static_cast<std::size_t>(g);
+    s.nodes.grain[i] = g;
+    if (s.grains.node_begin[ug] < 0) s.grains.node_begin[ug] = static_cast<int>(i);
+    if (s.grains.node_end[ug] >= 0 && s.grains.node_end[ug] != static_cast<int>(i))
+      throw std::logic_error("comm: the nodes of grain " + std::to_string(grain_ids[ug]) + " do not have consecutive ids");
+    s.grains.node_end[ug] = static_cast<int>(i) + 1;
+  }
+
+  // Bond rows follow their nodes.
+  const BondList was = std::move(s.bonds);
+  s.bonds = BondList{};
+  s.bonds.offset.assign(n + 1, 0);
+  const bool bonded = was.offset.size() == n + 1;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto from = static_cast<std::size_t>(order[i]);
+    if (bonded)
+      for (int e = was.offset[from]; e < was.offset[from + 1]; ++e) {
+        const auto ue = static_cast<std::size_t>(e);
+        s.bonds.partner.push_back(now[static_cast<std::size_t>(was.partner[ue])]);
+        s.bonds.length0.push_back(was.length0[ue]);
+        s.bonds.broken.push_back(was.broken[ue]);
+      }
+    s.bonds.offset[i + 1] = static_cast<int>(s.bonds.partner.size());
+  }
+  return order;
+}
+
+void keep_nodes(GrainStore s, const std::vector<unsigned char>& keep) {
+  if (keep.size() != s.nodes.size()) throw std::logic_error("comm::keep_nodes: one flag per node is needed");
+  std::vector<char> message(sizeof(std::int64_t));  // the count of pieces, written last
+  std::int64_t pieces = 0;
+  for (std::size_t g = 0; g < s.grains.size(); ++g) {
+    std::vector<int> rows;
+    for (int i = s.grains.node_begin[g]; i < s.grains.node_end[g]; ++i)
+      if (keep[static_cast<std::size_t>(i)]) rows.push_back(i);
+    if (rows.empty()) continue;
+    if (!is_wall(s.grains, g) && static_cast<int>(rows.size()) != s.grains.node_end[g] - s.grains.node_begin[g])
+      throw std::logic_error("comm::keep_nodes: a particle grain is kept whole or not at all");
+    pack_piece(s, g, rows, message);
+    ++pieces;
+  }
+  std::memcpy(message.data(), &pieces, sizeof pieces);
   s.nodes.resize(0);
   s.grains.resize(0);
+  s.bonds = BondList{};
   s.bonds.offset.assign(1, 0);
-  s.bonds.partner.clear();
-  s.bonds.length0.clear();
-  s.bonds.broken.clear();
-  unpack_grains(packed, s);
+  unpack_pieces(message, s);
+  sort_store(s);
+}
+
+void select_grains(GrainStore s, const std::vector<int>& which) {
+  std::vector<unsigned char> keep(s.nodes.size(), 0);
+  for (const int g : which)
+    for (int i = s.grains.node_begin[static_cast<std::size_t>(g)]; i < s.grains.node_end[static_cast<std::size_t>(g)]; ++i)
+      keep[static_cast<std::size_t>(i)] = 1;
+  keep_nodes(s, keep);
 }
 
 void keep_owned_grains(const Decomposition& d, const Box& box, GrainStore s) {
-  refuse_walls(s.grains);
-  std::vector<int> mine;
+  std::vector<unsigned char> keep(s.nodes.size(), 0);
   for (std::size_t g = 0; g < s.grains.size(); ++g)
-    if (d.owner(box, s.grains.cx[g], s.grains.cy[g], s.grains.cz[g]) == d.rank()) mine.push_back(static_cast<int>(g));
-  sort_by_first_id(s, mine);
-  select_grains(s, mine);
+    for (int i = s.grains.node_begin[g]; i < s.grains.node_end[g]; ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      keep[u] = is_wall(s.grains, g) ? d.owner(box, s.nodes.x[u], s.nodes.y[u], s.nodes.z[u]) == d.rank()
+                                     : d.owner(box, s.grains.cx[g], s.grains.cy[g], s.grains.cz[g]) == d.rank();
+    }
+  keep_nodes(s, keep);
 }
 
 GrainExchangeCount exchange_grains(const Decomposition& d, const Box& box, GrainStore s) {
-  refuse_walls(s.grains);
   GrainExchangeCount count;
   for (int a = 0; a < 3; ++a) {
     if (d.grid()[a] == 1) continue;
     const int mine = d.coord()[a];
     const auto& centre = a == 0 ? s.grains.cx : (a == 1 ? s.grains.cy : s.grains.cz);
-    std::vector<int> stay, to_below, to_above;
+    const double* node_at = position(s.nodes, a);
+    // Where each node goes: a particle grain's nodes with its centre, a wall's each by its own position.
+    std::vector<int> step(s.nodes.size(), 0);
     for (std::size_t g = 0; g < s.grains.size(); ++g) {
-      const int step = d.step_along(box, a, centre[g]);
-      const int gi = static_cast<int>(g);
-      if (step == 0)
-        stay.push_back(gi);
-      else if (step == +1)
-        to_above.push_back(gi);
-      else if (step == -1)
-        to_below.push_back(gi);
-      else
-        throw std::runtime_error("the grain of node " + std::to_string(first_id(s, g)) + " moved past the next rank along " +
-                                 std::string(1, "xyz"[a]) + " between two list builds (centre at " +
-                                 std::to_string(centre[g]) + ")");
+      const bool wall = is_wall(s.grains, g);
+      const int grain_step = wall ? 0 : d.step_along(box, a, centre[g]);
+      for (int i = s.grains.node_begin[g]; i < s.grains.node_end[g]; ++i) {
+        const auto u = static_cast<std::size_t>(i);
+        step[u] = wall ? d.step_along(box, a, node_at[u]) : grain_step;
+        if (step[u] == Decomposition::kTooFar)
+          throw std::runtime_error((wall ? "wall node " + std::to_string(s.nodes.id[u])
+                                         : "the grain of node " + std::to_string(s.nodes.id[static_cast<std::size_t>(s.grains.node_begin[g])])) +
+                                   " moved past the next rank along " + std::string(1, "xyz"[a]) +
+                                   " between two list builds (at " + std::to_string(wall ? node_at[u] : centre[g]) + ")");
+      }
     }
-    std::vector<char> out_below, out_above, in;
-    for (auto [list, out] : {std::pair{&to_below, &out_below}, std::pair{&to_above, &out_above}}) {
-      pack_value(static_cast<std::int64_t>(list->size()), *out);
-      for (const int g : *list) pack_grain(s, static_cast<std::size_t>(g), *out);
+    // Each message: the count of pieces (written last), then the pieces.
+    std::vector<char> out_below(sizeof(std::int64_t)), out_above(sizeof(std::int64_t)), in;
+    std::int64_t pieces_below = 0, pieces_above = 0;
+    std::vector<unsigned char> keep(s.nodes.size(), 1);
+    for (std::size_t g = 0; g < s.grains.size(); ++g) {
+      std::vector<int> below, above;
+      for (int i = s.grains.node_begin[g]; i < s.grains.node_end[g]; ++i) {
+        const int st = step[static_cast<std::size_t>(i)];
+        if (st != 0) keep[static_cast<std::size_t>(i)] = 0;
+        if (st < 0) below.push_back(i);
+        if (st > 0) above.push_back(i);
+      }
+      if (!below.empty()) pack_piece(s, g, below, out_below), ++pieces_below;
+      if (!above.empty()) pack_piece(s, g, above, out_above), ++pieces_above;
+      if (!is_wall(s.grains, g)) count.sent += !below.empty() || !above.empty() ? 1 : 0;
     }
-    count.sent += to_below.size() + to_above.size();
-    select_grains(s, stay);
+    std::memcpy(out_below.data(), &pieces_below, sizeof pieces_below);
+    std::memcpy(out_above.data(), &pieces_above, sizeof pieces_above);
+    keep_nodes(s, keep);
     for (const int dir : {-1, +1}) {
       sendrecv(dir < 0 ? out_below : out_above, d.neighbour(box, a, dir), in, d.neighbour(box, a, -dir), tag_of(a, dir));
       const std::size_t before = s.grains.size();
-      count.received += unpack_grains(in, s);
-      for (std::size_t g = before; g < s.grains.size(); ++g)
-        if (d.index_along(box, a, centre[g]) != mine)
-          throw std::runtime_error("the grain of node " + std::to_string(first_id(s, g)) +
-                                   " arrived on a rank that does not own it");
+      unpack_pieces(in, s);
+      for (std::size_t g = before; g < s.grains.size(); ++g) {
+        const bool wall = is_wall(s.grains, g);
+        if (!wall) ++count.received;
+        for (int i = s.grains.node_begin[g]; i < s.grains.node_end[g] && (wall || i == s.grains.node_begin[g]); ++i)
+          if (d.index_along(box, a, wall ? node_at_of(s, a, i) : centre[g]) != mine)
+            throw std::runtime_error("the grain of node " + std::to_string(s.nodes.id[static_cast<std::size_t>(i)]) +
+                                     " arrived on a rank that does not own it");
+      }
     }
+    sort_store(s);
   }
-  sort_grains(s);
   return count;
 }
 

@@ -5,13 +5,16 @@
 // (core/comm/migration), a grain that left this rank's subdomain goes to the next rank along the axis it
 // left by, one axis after the other; it moves at most half a subdomain between two list builds.
 //
-// Storage after every call: the rank's grains in increasing id of their first node (the order one process
-// stores them in: grains are placed with consecutive node ids), each grain's nodes contiguous in their own
-// order, every node's `grain` the index of its grain here, bond rows rebased onto the new node indices.
+// Walls (rigid, no bonds, often as wide as the box) are owned by position instead: each wall node on the
+// rank whose subdomain holds it, so a rank holds a piece of a wall (the wall's record and some of its
+// nodes), and a node crossing a cut moves alone.
 //
-// Walls are not moved here (kind wall: they have no bonds and span the box); a store holding one is refused
-// until walls are owned by position.
+// Storage after every call (sort_store): nodes in increasing id, grains (and pieces of walls) in increasing
+// PdGrains::id, each grain's nodes contiguous: the order one process stores them in (its grains are placed
+// with consecutive node ids, grain after grain). Every node's `grain` is the index of its grain here, bond
+// rows rebased onto the new node indices.
 #include <cstddef>
+#include <vector>
 
 #include "core/bond_list.hpp"
 #include "core/comm/decomposition.hpp"
@@ -30,16 +33,24 @@ struct GrainExchangeCount {
   std::size_t sent = 0, received = 0;  // grains
 };
 
-/// Moves every grain whose centre (grains.cx, cy, cz) this rank does not own to its owner. Collective.
-/// std::runtime_error naming the grain (by its first node's id) if one moved farther than the next rank:
+/// Moves every grain whose centre (grains.cx, cy, cz) this rank does not own, and every wall node whose
+/// position it does not own, to its owner. Collective. Counts particle grains (not wall nodes).
+/// std::runtime_error naming the grain (by its first node's id) or wall node if one moved past the next rank:
 /// only the rank that finds it throws, so a caller that can meet it must stop every rank (comm::abort).
 GrainExchangeCount exchange_grains(const Decomposition& d, const Box& box, GrainStore s);
 
-/// Start of a run where every rank holds every grain: keeps those whose centre this rank owns.
+/// Start of a run where every rank holds every grain: keeps those whose centre this rank owns, and the wall
+/// nodes whose position it owns.
 void keep_owned_grains(const Decomposition& d, const Box& box, GrainStore s);
 
-/// Keeps the grains `which` (indices, in the order given) and drops the others: nodes, records and bond rows
-/// rebuilt contiguously in that order. What exchange_grains and keep_owned_grains store by.
+/// Keeps the grains `which` (indices) whole and drops the others.
 void select_grains(GrainStore s, const std::vector<int>& which);
+
+/// Keeps the nodes flagged 1 (a particle grain's all or none; any of a wall's) and drops the others.
+void keep_nodes(GrainStore s, const std::vector<unsigned char>& keep);
+
+/// Puts the store in one process's order (above), merging grains of one id (pieces of a wall). Returns the
+/// order: new node i was node order[i].
+std::vector<int> sort_store(GrainStore s);
 
 }  // namespace debris::comm

@@ -48,9 +48,9 @@ constexpr std::size_t kNodeFields = 6, kGrainFields = 7;
 struct PendingSwap {
   int to = -1, from = -1, tag = 0;
   std::vector<int> send_nodes;
-  std::vector<std::int64_t> send_keys;  // grains of the sent nodes, by the id of their first node
+  std::vector<int> send_keys;  // grains of the sent nodes, by PdGrains::id
   std::size_t first = 0, count = 0;     // received nodes
-  std::vector<std::int64_t> recv_keys;
+  std::vector<int> recv_keys;
 };
 
 }  // namespace
@@ -59,19 +59,16 @@ void PdHalo::borders(const Decomposition& d, const Box& box, double width, Grain
   for (int a = 0; a < 3; ++a)
     if (box.periodic(a)) throw std::logic_error("PdHalo: a PeriDEM domain has no periodic axes");
   const std::size_t n_owned = s.nodes.size(), g_owned = s.grains.size();
-  // Grains are known by the id of their first node (a grain's ids are consecutive, from one process's store).
-  std::vector<std::int64_t> owned_key(g_owned);
-  for (std::size_t g = 0; g < g_owned; ++g) {
-    owned_key[g] = s.nodes.id[static_cast<std::size_t>(s.grains.node_begin[g])];
-    if (g > 0 && owned_key[g] <= owned_key[g - 1])
-      throw std::logic_error("PdHalo: a rank's grains are not in increasing id");
-  }
-  std::vector<std::int64_t> node_key(n_owned);
-  for (std::size_t i = 0; i < n_owned; ++i) node_key[i] = owned_key[static_cast<std::size_t>(s.nodes.grain[i])];
-  std::map<std::int64_t, GrainRecord> ghost_grain;
-  const auto record_of_key = [&](std::int64_t key) {
-    const auto it = std::lower_bound(owned_key.begin(), owned_key.end(), key);
-    if (it != owned_key.end() && *it == key) return record_of(s.grains, static_cast<std::size_t>(it - owned_key.begin()));
+  // Grains (and pieces of walls) are known by PdGrains::id, the whole system's grain index.
+  for (std::size_t g = 1; g < g_owned; ++g)
+    if (s.grains.id[g] <= s.grains.id[g - 1]) throw std::logic_error("PdHalo: a rank's grains are not in increasing id");
+  std::vector<int> node_key(n_owned);
+  for (std::size_t i = 0; i < n_owned; ++i) node_key[i] = s.grains.id[static_cast<std::size_t>(s.nodes.grain[i])];
+  std::map<int, GrainRecord> ghost_grain;
+  const auto record_of_key = [&](int key) {
+    const auto it = std::lower_bound(s.grains.id.begin(), s.grains.id.begin() + static_cast<std::ptrdiff_t>(g_owned), key);
+    if (it != s.grains.id.begin() + static_cast<std::ptrdiff_t>(g_owned) && *it == key)
+      return record_of(s.grains, static_cast<std::size_t>(it - s.grains.id.begin()));
     return ghost_grain.at(key);
   };
 
@@ -99,7 +96,7 @@ void PdHalo::borders(const Decomposition& d, const Box& box, double width, Grain
         pack_records(s.nodes, p.send_nodes, out);
         for (const int i : p.send_nodes) pack_value(node_key[static_cast<std::size_t>(i)], out);
         pack_value(static_cast<std::int64_t>(p.send_keys.size()), out);
-        for (const std::int64_t key : p.send_keys) {
+        for (const int key : p.send_keys) {
           pack_value(key, out);
           pack_value(record_of_key(key), out);
         }
@@ -109,10 +106,10 @@ void PdHalo::borders(const Decomposition& d, const Box& box, double width, Grain
       if (!in.empty()) {
         Unpacker u(in);
         p.count = u.records(s.nodes).second;
-        for (std::size_t k = 0; k < p.count; ++k) node_key.push_back(u.value<std::int64_t>());
+        for (std::size_t k = 0; k < p.count; ++k) node_key.push_back(u.value<int>());
         const auto grains = static_cast<std::size_t>(u.value<std::int64_t>());
         for (std::size_t k = 0; k < grains; ++k) {
-          const auto key = u.value<std::int64_t>();
+          const int key = u.value<int>();
           ghost_grain[key] = u.value<GrainRecord>();
           p.recv_keys.push_back(key);
         }
@@ -122,73 +119,36 @@ void PdHalo::borders(const Decomposition& d, const Box& box, double width, Grain
     }
   }
 
-  // Owned nodes and ghosts together in increasing id; grains in increasing key.
-  const std::size_t n = s.nodes.size();
-  std::vector<int> order(n);
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    return s.nodes.id[static_cast<std::size_t>(a)] < s.nodes.id[static_cast<std::size_t>(b)];
-  });
+  // A grain record for every ghost grain id (a wall this rank holds a piece of keeps its own record: the
+  // first grain of an id wins in sort_store), the ghosts pointed at them, then one process's order.
+  std::map<int, int> appended;
+  for (const auto& [key, r] : ghost_grain) {
+    const std::size_t g = s.grains.size();
+    s.grains.resize(g + 1);
+    store_record(s.grains, g, r);
+    s.grains.id[g] = key;
+    appended[key] = static_cast<int>(g);
+  }
+  for (std::size_t i = n_owned; i < s.nodes.size(); ++i) s.nodes.grain[i] = appended.at(node_key[i]);
+  if (s.bonds.offset.size() != n_owned + 1) throw std::logic_error("PdHalo: the bond rows do not fit the owned nodes");
+  s.bonds.offset.resize(s.nodes.size() + 1, s.bonds.offset.back());  // ghosts: no bonds
+  const std::vector<int> order = sort_store(s);
+  const std::size_t n = order.size();
   std::vector<int> now(n);
   for (std::size_t i = 0; i < n; ++i) now[static_cast<std::size_t>(order[i])] = static_cast<int>(i);
-  s.nodes.for_each_column([&](const char*, auto& col) {
-    using T = typename std::decay_t<decltype(col)>::value_type;
-    const std::vector<T> old(col.begin(), col.end());
-    for (std::size_t i = 0; i < n; ++i) col[i] = old[static_cast<std::size_t>(order[i])];
-  });
-  for (std::size_t i = 1; i < n; ++i)
-    if (s.nodes.id[i] == s.nodes.id[i - 1])
-      throw std::logic_error("PdHalo: node " + std::to_string(s.nodes.id[i]) + " arrived twice");
-
-  std::vector<std::int64_t> keys(owned_key);
-  for (const auto& [key, r] : ghost_grain) keys.push_back(key);
-  std::sort(keys.begin(), keys.end());
-  const auto grain_of_key = [&](std::int64_t key) {
-    return static_cast<int>(std::lower_bound(keys.begin(), keys.end(), key) - keys.begin());
+  const auto grain_of_key = [&](int key) {
+    const auto it = std::lower_bound(s.grains.id.begin(), s.grains.id.end(), key);
+    return static_cast<int>(it - s.grains.id.begin());
   };
-  const PdGrains old_grains = s.grains;
-  const std::size_t ng = keys.size();
-  s.grains.resize(ng);
-  owned_grain_.assign(ng, 0);
-  for (std::size_t g = 0; g < ng; ++g) {
-    const auto it = std::lower_bound(owned_key.begin(), owned_key.end(), keys[g]);
-    if (it != owned_key.end() && *it == keys[g]) {
-      store_record(s.grains, g, record_of(old_grains, static_cast<std::size_t>(it - owned_key.begin())));
-      owned_grain_[g] = 1;
-    } else {
-      store_record(s.grains, g, ghost_grain.at(keys[g]));
-    }
-    s.grains.node_begin[g] = s.grains.node_end[g] = -1;
-  }
-  owned_node_.assign(n, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto was = static_cast<std::size_t>(order[i]);
-    const int g = grain_of_key(node_key[was]);
-    const auto ug = static_cast<std::size_t>(g);
-    s.nodes.grain[i] = g;
-    owned_node_[i] = was < n_owned ? 1 : 0;
-    if (s.grains.node_begin[ug] < 0) s.grains.node_begin[ug] = static_cast<int>(i);
-    if (s.grains.node_end[ug] >= 0 && s.grains.node_end[ug] != static_cast<int>(i))
-      throw std::logic_error("PdHalo: the nodes of a grain do not have consecutive ids");
-    s.grains.node_end[ug] = static_cast<int>(i) + 1;
-  }
-  ghost_nodes_ = n - n_owned;
 
-  // Bond rows follow their nodes; ghosts have none.
-  BondList old_bonds = std::move(s.bonds);
-  s.bonds = BondList{};
-  s.bonds.offset.assign(n + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto was = static_cast<std::size_t>(order[i]);
-    if (was < n_owned)
-      for (int e = old_bonds.offset[was]; e < old_bonds.offset[was + 1]; ++e) {
-        const auto ue = static_cast<std::size_t>(e);
-        s.bonds.partner.push_back(now[static_cast<std::size_t>(old_bonds.partner[ue])]);
-        s.bonds.length0.push_back(old_bonds.length0[ue]);
-        s.bonds.broken.push_back(old_bonds.broken[ue]);
-      }
-    s.bonds.offset[i + 1] = static_cast<int>(s.bonds.partner.size());
-  }
+  owned_node_.assign(n, 0);
+  owned_grain_.assign(s.grains.size(), 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (static_cast<std::size_t>(order[i]) < n_owned) {
+      owned_node_[i] = 1;
+      owned_grain_[static_cast<std::size_t>(s.nodes.grain[i])] = 1;
+    }
+  ghost_nodes_ = n - n_owned;
 
   swaps_.clear();
   for (const PendingSwap& p : pending) {
@@ -197,9 +157,9 @@ void PdHalo::borders(const Decomposition& d, const Box& box, double width, Grain
     w.from = p.from;
     w.tag = p.tag;
     for (const int i : p.send_nodes) w.send_nodes.push_back(now[static_cast<std::size_t>(i)]);
-    for (const std::int64_t key : p.send_keys) w.send_grains.push_back(grain_of_key(key));
+    for (const int key : p.send_keys) w.send_grains.push_back(grain_of_key(key));
     for (std::size_t k = 0; k < p.count; ++k) w.recv_nodes.push_back(now[p.first + k]);
-    for (const std::int64_t key : p.recv_keys) w.recv_grains.push_back(grain_of_key(key));
+    for (const int key : p.recv_keys) w.recv_grains.push_back(grain_of_key(key));
     swaps_.push_back(std::move(w));
   }
 }

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "core/block_sums.hpp"
+#include "core/comm/exact_sum.hpp"
 #include "core/exec.hpp"
 #include "core/pd_contact_list.hpp"
 #include "core/pd_nodes.hpp"
@@ -137,21 +138,21 @@ void pd_contact_pass(const PdContactTable& table, PdDamping damping, PdNodes& no
 
 void pd_centre_damping(const PdContactTable& table, PdNodes& nodes, const PdGrains& grains, const PdContactList& list,
                        PdContactWork& work) {
-  // Damping between grain centres, eqs 26-30.
+  pd_centre_slot_forces(table, nodes, grains, list, work);
+  pd_centre_damping_spread(table, nodes, grains, list, work);
+}
+
+void pd_centre_slot_forces(const PdContactTable& table, const PdNodes& nodes, const PdGrains& grains,
+                           const PdContactList& list, PdContactWork& work) {
+  // Damping between grain centres, eqs 26-30: the force of each grain-pair slot.
   check_sizes(table, nodes, grains, list);
-  const int n = list.rows();
   const double* __restrict x = nodes.x.data(), *__restrict y = nodes.y.data(), *__restrict z = nodes.z.data();
   const double* __restrict vx = nodes.vx.data(), *__restrict vy = nodes.vy.data(), *__restrict vz = nodes.vz.data();
-  const double* __restrict volume = nodes.volume.data();
-  double* __restrict fx = nodes.fx.data(), *__restrict fy = nodes.fy.data(), *__restrict fz = nodes.fz.data();
-  const int* __restrict grain = nodes.grain.data();
-  const int* __restrict material = grains.material.data(), *__restrict kind = grains.kind.data();
+  const int* __restrict material = grains.material.data();
   const PdContactParams* __restrict pairs = table.pairs.data();
   const int nm = table.materials;
-  const int wall = static_cast<int>(PdGrainKind::wall);
   const int ns = list.slots(), ng = static_cast<int>(grains.size());
   for (auto* v : {&work.slot_fx, &work.slot_fy, &work.slot_fz}) v->resize(static_cast<std::size_t>(ns));
-  for (auto* v : {&work.grain_fx, &work.grain_fy, &work.grain_fz}) v->resize(static_cast<std::size_t>(ng));
   const int* __restrict owner = list.slot_owner().data(), *__restrict partner = list.slot_partner_grain().data();
   const int* __restrict partner_node = list.slot_partner_node().data();
   const int* __restrict pair_offset = list.slot_pair_offset().data();
@@ -187,7 +188,7 @@ void pd_centre_damping(const PdContactTable& table, PdNodes& nodes, const PdGrai
     cvy = ncvy;
     cvz = ncvz;
   }
-  const double* __restrict g_vol = work.grain_volume.data(), *__restrict g_mass = work.grain_mass.data();
+  const double* __restrict g_mass = work.grain_mass.data();
   double* __restrict sfx = work.slot_fx.data(), *__restrict sfy = work.slot_fy.data();
   double* __restrict sfz = work.slot_fz.data();
 
@@ -241,6 +242,23 @@ void pd_centre_damping(const PdContactTable& table, PdNodes& nodes, const PdGrai
     sfz[s] = g.z;
   }
 
+}
+
+void pd_centre_damping_spread(const PdContactTable& table, PdNodes& nodes, const PdGrains& grains,
+                              const PdContactList& list, PdContactWork& work) {
+  // Eqs 29-30: the slot forces summed per grain and spread over its nodes; a wall node takes the opposite.
+  check_sizes(table, nodes, grains, list);
+  const int n = list.rows(), ng = static_cast<int>(grains.size());
+  const int* __restrict grain = nodes.grain.data();
+  const int* __restrict kind = grains.kind.data();
+  const double* __restrict volume = nodes.volume.data();
+  double* __restrict fx = nodes.fx.data(), *__restrict fy = nodes.fy.data(), *__restrict fz = nodes.fz.data();
+  const int wall = static_cast<int>(PdGrainKind::wall);
+  const int* __restrict grain_slot = list.grain_slot_offset().data();
+  const double* __restrict g_vol = work.grain_volume.data();
+  const double* __restrict sfx = work.slot_fx.data(), *__restrict sfy = work.slot_fy.data();
+  const double* __restrict sfz = work.slot_fz.data();
+  for (auto* v : {&work.grain_fx, &work.grain_fy, &work.grain_fz}) v->resize(static_cast<std::size_t>(ng));
   double* __restrict gfx = work.grain_fx.data(), *__restrict gfy = work.grain_fy.data();
   double* __restrict gfz = work.grain_fz.data();
   DEBRIS_RESIDENT(grain_slot, sfx, sfy, sfz, gfx, gfy, gfz);
@@ -271,6 +289,55 @@ void pd_centre_damping(const PdContactTable& table, PdNodes& nodes, const PdGrai
     fx[i] += f.x;
     fy[i] += f.y;
     fz[i] += f.z;
+  }
+}
+
+void pd_wall_reaction_sums(const PdContactTable& table, PdDamping damping, const PdNodes& nodes, const PdGrains& grains,
+                           const PdContactList& list, const PdContactWork& work, double dt, const unsigned char* owned_node,
+                           const unsigned char* owned_grain, std::vector<comm::ExactSum>& sums) {
+  check_sizes(table, nodes, grains, list);
+  const int n = list.rows();
+  const auto& offset = list.offset();
+  const auto& index = list.index();
+  const int wall = static_cast<int>(PdGrainKind::wall);
+  const int node_damping = damping == PdDamping::node_pairs ? 1 : 0;
+  const bool given = !work.row_count.empty();
+  const auto count_of = [&](int i) { return given ? work.row_count[static_cast<std::size_t>(i)] : offset[i + 1] - offset[i]; };
+  const auto add = [&](int g, Vec3 f) {
+    const auto at = 3 * static_cast<std::size_t>(grains.id[static_cast<std::size_t>(g)]);
+    if (at + 3 > sums.size()) throw std::logic_error("pd_wall_reaction_sums: a grain id beyond the sums");
+    sums[at].add(f.x);
+    sums[at + 1].add(f.y);
+    sums[at + 2].add(f.z);
+  };
+  // The node pairs, as pd_node_pair_forces evaluates them from the particle's end.
+  for (int i = 0; i < n; ++i) {
+    const int gi = nodes.grain[i];
+    if ((owned_node && !owned_node[i]) || grains.kind[gi] == wall || offset[i + 1] == offset[i]) continue;
+    const int mat_i = grains.material[gi] * table.materials;
+    const Vec3 zi{nodes.x[i], nodes.y[i], nodes.z[i]}, vi{nodes.vx[i], nodes.vy[i], nodes.vz[i]};
+    const double share_i = nodes.mass[i] / static_cast<double>(count_of(i));
+    for (int k = offset[i]; k < offset[i + 1]; ++k) {
+      const int j = index[k];
+      const int gj = nodes.grain[j];
+      if (grains.kind[gj] != wall) continue;
+      const double share_j = nodes.mass[j] / static_cast<double>(count_of(j));
+      const double stick = pd_stick_mass(share_i, 0, share_j, 1);
+      const double m_eq = pd_damping_mass(nodes.mass[i], 0, nodes.mass[j], 1);
+      const PdContactPairResult r = pd_contact_pair_force(
+          table.pairs[static_cast<std::size_t>(mat_i + grains.material[gj])], Vec3{nodes.x[j], nodes.y[j], nodes.z[j]} - zi,
+          Vec3{nodes.vx[j], nodes.vy[j], nodes.vz[j]} - vi, nodes.volume[i], nodes.volume[j], m_eq, stick, dt, false,
+          node_damping);
+      add(gj, -r.force);
+    }
+  }
+  if (damping != PdDamping::grain_centres) return;
+  // The centre damping: a wall node takes the opposite of each slot toward it (pd_centre_damping).
+  for (int s = 0; s < list.slots(); ++s) {
+    const int p = list.slot_owner()[s];
+    if (list.slot_partner_node()[s] < 0 || (owned_grain && !owned_grain[p])) continue;
+    add(list.slot_partner_grain()[s], Vec3{-work.slot_fx[static_cast<std::size_t>(s)], -work.slot_fy[static_cast<std::size_t>(s)],
+                                           -work.slot_fz[static_cast<std::size_t>(s)]});
   }
 }
 
@@ -325,6 +392,31 @@ double pd_contact_elastic_energy(const PdContactTable& table, const PdNodes& nod
   }
   partials.to_host(static_cast<std::size_t>(blocks));
   return partials.add_up<1>(blocks)[0];
+}
+
+void pd_contact_energy_rows(const PdContactTable& table, const PdNodes& nodes, const PdGrains& grains,
+                            const PdContactList& list, double* row_energy) {
+  check_sizes(table, nodes, grains, list);
+  const int n = list.rows();
+  const int* offset = list.offset().data();
+  const int* index = list.index().data();
+  const double *x = nodes.x.data(), *y = nodes.y.data(), *z = nodes.z.data();
+  const double* volume = nodes.volume.data();
+  const int* grain = nodes.grain.data();
+  const int* material = grains.material.data();
+  const PdContactParams* pairs = table.pairs.data();
+  const int nm = table.materials;
+  DEBRIS_RESIDENT(offset, index, x, y, z, volume, grain, material, pairs, row_energy);
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    double energy = 0.0;
+    for (int k = offset[i]; k < offset[i + 1]; ++k) {
+      const int j = index[k];
+      const double d = norm(Vec3{x[j] - x[i], y[j] - y[i], z[j] - z[i]});
+      energy += 0.5 * pd_contact_energy(pairs[material[grain[i]] * nm + material[grain[j]]], d, volume[i], volume[j]);
+    }
+    row_energy[i] = energy;
+  }
 }
 
 long pd_touching_pairs(const PdContactTable& table, const PdNodes& nodes, const PdGrains& grains,

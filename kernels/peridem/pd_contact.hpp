@@ -25,6 +25,7 @@
 // wall nodes ahead of the centre); that is the paper's model, kept as written.
 #include <vector>
 
+#include "core/comm/exact_sum.hpp"
 #include "core/exec.hpp"
 #include "core/vec3.hpp"
 #include "kernels/peridem/pd_contact_params.hpp"
@@ -76,15 +77,40 @@ void pd_node_pair_forces(const PdContactTable& table, PdDamping damping, PdNodes
                          const PdContactList& list, const PdContactWork& work, double dt);
 void pd_centre_damping(const PdContactTable& table, PdNodes& nodes, const PdGrains& grains, const PdContactList& list,
                        PdContactWork& work);
+/// pd_centre_damping in its two parts: the force of every grain-pair slot into work.slot_fx .. fz (eqs
+/// 26-29; nothing else changes: a restart recomputes them for the wall reactions), then their sums per grain
+/// spread over the nodes (eqs 29-30).
+void pd_centre_slot_forces(const PdContactTable& table, const PdNodes& nodes, const PdGrains& grains,
+                           const PdContactList& list, PdContactWork& work);
+void pd_centre_damping_spread(const PdContactTable& table, PdNodes& nodes, const PdGrains& grains,
+                              const PdContactList& list, PdContactWork& work);
 
 /// Total force on each wall grain (the sum over its nodes, in node order; particles get zero): the wall's
 /// reaction. Call it after the force passes: wall nodes receive contact forces only (no bonds, no gravity).
 /// Offload builds: written on the device (to_host(reaction) to read it).
 void pd_wall_reactions(const PdNodes& nodes, const PdGrains& grains, exec::DeviceVector<Vec3>& reaction);
 
+/// The wall reactions as sums that give the same bits on any rank count (core/comm/exact_sum): into
+/// sums[3 grains.id[w] + axis], for every wall w, minus each force its nodes exert on the particle nodes of
+/// the list's rows (those flagged in owned_node; all when null): each node pair's force (eqs 16-20, 21-25
+/// with node damping; evaluated from the particle's end, the wall's end being its exact opposite) and each
+/// centre damping slot of a particle grain (flagged in owned_grain) toward a wall node (eqs 26-30), one exact
+/// term each. A host pass over the host copies of the nodes, the list and work (the slot forces of the last
+/// pd_centre_damping), for output rows. `sums` must hold 3 per grain of the whole system.
+void pd_wall_reaction_sums(const PdContactTable& table, PdDamping damping, const PdNodes& nodes, const PdGrains& grains,
+                           const PdContactList& list, const PdContactWork& work, double dt, const unsigned char* owned_node,
+                           const unsigned char* owned_grain, std::vector<comm::ExactSum>& sums);
+
 /// Elastic energy stored in the contact springs, sum over pairs of 1/2 K_n delta^2 V V' (diagnostics).
 double pd_contact_elastic_energy(const PdContactTable& table, const PdNodes& nodes, const PdGrains& grains,
                                  const PdContactList& list);
+
+/// The contact springs' energy by row: row_energy[i] = sum over row i of 1/2 (1/2 K_n delta^2 V V'), half of
+/// each pair's (the other half is in the partner's row), in row order: an owned node's value is the same on
+/// any rank count, for sums that are (diagnostics of a run cut among ranks). row_energy: rows() values
+/// (device-resident in offload builds).
+void pd_contact_energy_rows(const PdContactTable& table, const PdNodes& nodes, const PdGrains& grains,
+                            const PdContactList& list, double* row_energy);
 
 /// Node pairs of the list closer than their contact radius R_c (each pair once; diagnostics). An integer
 /// sum: the same on any thread count or device.

@@ -1,7 +1,8 @@
 // The PeriDEM step cut among ranks (issue 27; scenarios/common/peridem/peridem_ranks.cpp) against one
 // process: every rank also runs the whole system alone, and every node a rank owns must have the same bits
-// (position, velocity, force, dilatation) as that node in the one-process run, after a set-up and after
-// hundreds of steps in which grains fly across the cuts, collide, break bonds and rub with friction.
+// (position, velocity, force, dilatation) as that node in the one-process run, and the diagnostics (energies,
+// momentum, damage, broken bonds, touching pairs) and the walls' reactions the same bits, after the set-up and every 150 steps in which grains fly across the cuts, collide with
+// each other and with walls that cross every cut, break bonds and rub with friction.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,7 +12,6 @@
 #include <vector>
 
 #include "core/comm/communicator.hpp"
-#include "core/error.hpp"
 #include "scenarios/common/peridem/peridem_simulation.hpp"
 #include "tests/mpi/rank_grids.hpp"
 
@@ -21,7 +21,7 @@ namespace {
 constexpr double kMm = 1e-3;
 // The whole field drifts (m/s), so that grains cross the cuts, and many of them: about 6 mm in the 600 steps
 // of a test, a subdomain's width at 4 ranks along x.
-const Vec3 kDrift{20, 8, 8};
+const Vec3 kDrift{20, -8, 8};
 
 // Spheres of radius 1 mm meshed on a cubic lattice of h = 0.4 mm (33 nodes each), centres on a 3 mm grid of
 // nx x ny x nz with a random jitter, random velocities up to `speed` (m/s) beside the drift, and the first two grains of
@@ -29,7 +29,7 @@ const Vec3 kDrift{20, 8, 8};
 // given +-tear m/s along x (bonds break). Gentle enough that no fragment flies far from its grain's centre:
 // a grain's extent sets the ghost width, and at 4 ranks along x a subdomain is 6 mm wide. M1 (paper B, Table 1) with
 // friction, node-pair restitution 0.8, and gravity.
-PeridemSimulation make_field(int nx, int ny, int nz, double speed, double impact, double tear, double fracture_energy, double dt, PdDamping damping,
+PeridemSimulation make_field(int nx, int ny, int nz, double speed, double impact, double tear, double fracture_energy, double dt, bool walls, PdDamping damping,
                              std::uint64_t seed = 7) {
   const double h = 0.4 * kMm;
   PdNodes nodes;
@@ -61,6 +61,26 @@ PeridemSimulation make_field(int nx, int ny, int nz, double speed, double impact
         grains.kind[g] = static_cast<int>(PdGrainKind::particle);
         grains.material[g] = 0;
       }
+  // Walls: a floor rising at 5 m/s under the field and a fixed side wall across the drift along x, planes of
+  // nodes h apart; they cross every cut, so each rank holds pieces of them.
+  const auto add_wall = [&](Vec3 origin, Vec3 du, Vec3 dv, int nu, int nv, Vec3 velocity) {
+    grains.resize(static_cast<std::size_t>(g) + 1);
+    grains.node_begin[g] = static_cast<int>(nodes.size());
+    for (int b = 0; b < nv; ++b)
+      for (int a = 0; a < nu; ++a) {
+        const Vec3 p = origin + (a * h) * du + (b * h) * dv;
+        const std::size_t n = nodes.add(id++, g, p.x, p.y, p.z, h * h * h);
+        nodes.vx[n] = velocity.x, nodes.vy[n] = velocity.y, nodes.vz[n] = velocity.z;
+      }
+    grains.node_end[g] = static_cast<int>(nodes.size());
+    grains.kind[g] = static_cast<int>(PdGrainKind::wall);
+    grains.wall_vx[g] = velocity.x, grains.wall_vy[g] = velocity.y, grains.wall_vz[g] = velocity.z;
+    ++g;
+  };
+  if (walls) {
+    add_wall({-2 * kMm, -2.2 * kMm, -2 * kMm}, {1, 0, 0}, {0, 0, 1}, 70, 3 * nz * 2 + 10, {0, 5, 0});
+    add_wall({3 * kMm * nx - 1.0 * kMm, -2 * kMm, -2 * kMm}, {0, 1, 0}, {0, 0, 1}, 3 * ny * 2 + 10, 3 * nz * 2 + 10, {0, 0, 0});
+  }
   PdMaterial m = peridem_material_m1(3);
   m.horizon = 1.5 * h;
   m.fracture_energy = fracture_energy;  // J/m^2 (M1: 50)
@@ -102,11 +122,11 @@ std::string grid_name(const std::array<int, 3>& g) {
 }
 
 void run_against_one_process(PdDamping damping, double speed, double impact, double tear, double fracture_energy,
-                             double dt) {
+                             double dt, bool walls, long min_migrations) {
   for (const auto& grid : test::grids_for(comm::size())) {
     SCOPED_TRACE("grid " + grid_name(grid));
-    PeridemSimulation one = make_field(8, 5, 5, speed, impact, tear, fracture_energy, dt, damping);
-    PeridemSimulation ranks = make_field(8, 5, 5, speed, impact, tear, fracture_energy, dt, damping);
+    PeridemSimulation one = make_field(8, 5, 5, speed, impact, tear, fracture_energy, dt, walls, damping);
+    PeridemSimulation ranks = make_field(8, 5, 5, speed, impact, tear, fracture_energy, dt, walls, damping);
     ranks.distribute(grid);
     ASSERT_TRUE(ranks.distributed());
     expect_owned_nodes_equal(ranks, one, "after the set-up");
@@ -114,6 +134,24 @@ void run_against_one_process(PdDamping damping, double speed, double impact, dou
       one.run(150);
       ranks.run(150);
       expect_owned_nodes_equal(ranks, one, "step " + std::to_string(one.step_count()));
+      const PeridemDiagnostics a = ranks.diagnostics(), b = one.diagnostics();
+      const std::string at = " at step " + std::to_string(one.step_count());
+      EXPECT_EQ(a.kinetic_energy, b.kinetic_energy) << at;
+      EXPECT_EQ(a.bond_energy, b.bond_energy) << at;
+      EXPECT_EQ(a.contact_energy, b.contact_energy) << at;
+      EXPECT_EQ(a.max_damage, b.max_damage) << at;
+      EXPECT_EQ(a.broken_bonds, b.broken_bonds) << at;
+      EXPECT_EQ(a.contact_pairs, b.contact_pairs) << at;
+      EXPECT_EQ(a.momentum.x, b.momentum.x) << at;
+      EXPECT_EQ(a.momentum.y, b.momentum.y) << at;
+      EXPECT_EQ(a.momentum.z, b.momentum.z) << at;
+      const std::vector<Vec3> mine = ranks.wall_reactions(), whole = one.wall_reactions();
+      ASSERT_EQ(mine.size(), whole.size());
+      for (std::size_t w = 0; w < whole.size(); ++w) {
+        EXPECT_EQ(mine[w].x, whole[w].x) << "reaction of grain " << w << " at step " << one.step_count();
+        EXPECT_EQ(mine[w].y, whole[w].y) << "reaction of grain " << w << " at step " << one.step_count();
+        EXPECT_EQ(mine[w].z, whole[w].z) << "reaction of grain " << w << " at step " << one.step_count();
+      }
       if (::testing::Test::HasFailure()) return;
     }
     // The run did what it is for: grains crossed the cuts, bonds broke, the list was rebuilt alike.
@@ -122,41 +160,25 @@ void run_against_one_process(PdDamping damping, double speed, double impact, dou
     comm::allreduce_sum(&migrated, 1);
     EXPECT_EQ(broken, one.broken_bonds());
     if (tear > 0) EXPECT_GT(one.broken_bonds(), 0);
-    if (comm::rank() == 0) std::printf("grid %s: broken %ld rebuilds %ld migrated %ld stable dt %g\n", grid_name(grid).c_str(), one.broken_bonds(), one.contact_rebuilds(), static_cast<long>(migrated), one.stable_time_step());
+    if (comm::rank() == 0)
+      std::printf("[ info ] PeriDEM %s: %ld bonds broken, %ld list builds, %lld grains moved between ranks\n",
+                  grid_name(grid).c_str(), one.broken_bonds(), one.contact_rebuilds(), static_cast<long long>(migrated));
     EXPECT_EQ(ranks.contact_rebuilds(), one.contact_rebuilds());
-    if (comm::size() > 1) EXPECT_GT(migrated, 10) << "grains crossing the cuts";
+    if (comm::size() > 1) EXPECT_GE(migrated, min_migrations) << "grains crossing the cuts";
   }
 }
 
-TEST(DistributedPeridem, GrainCentreDampingHasTheOneProcessBitsAtEveryOwnedNode) {
-  run_against_one_process(PdDamping::grain_centres, 4.0, 6.0, 3.0, 2.0, 5e-7);
+// The paper's damping, with walls: the floor rises into the falling field, the side wall stops its drift.
+TEST(DistributedPeridem, GrainsAndWallsWithCentreDampingHaveTheOneProcessBits) {
+  run_against_one_process(PdDamping::grain_centres, 4.0, 6.0, 3.0, 2.0, 5e-7, true, 15);
 }
 
-TEST(DistributedPeridem, NodePairDampingHasTheOneProcessBitsAtEveryOwnedNode) {
+TEST(DistributedPeridem, NodePairDampingHasTheOneProcessBits) {
   // The node-pair dashpots (eqs 21-25) shake the grains apart at 5e-7 s, a third of the stable step of the
-  // springs alone (it leaves the dashpots out): 50 bonds broke without any tear; none at 2e-7 s.
-  run_against_one_process(PdDamping::node_pairs, 4.0, 6.0, 3.0, 2.0, 2e-7);
-}
-
-TEST(DistributedPeridem, WallsAreRefusedByName) {
-  PdNodes nodes;
-  PdGrains grains;
-  grains.resize(2);
-  for (int g = 0; g < 2; ++g) {
-    grains.node_begin[g] = static_cast<int>(nodes.size());
-    for (int i = 0; i < 3; ++i) nodes.add(g * 3 + i, g, i * 1e-3, g * 5e-3, 0, 1e-9);
-    grains.node_end[g] = static_cast<int>(nodes.size());
-    grains.kind[g] = g == 0 ? static_cast<int>(PdGrainKind::particle) : static_cast<int>(PdGrainKind::wall);
-  }
-  PeridemSettings settings;
-  settings.time_step = 1e-8;
-  PeridemSimulation sim(std::move(nodes), std::move(grains), {peridem_material_m1(3)}, {PdContactSettings{}}, settings);
-  try {
-    sim.distribute();
-    FAIL() << "a wall was cut among ranks";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("walls.wall1"), std::string::npos) << e.what();
-  }
+  // springs alone (which leaves the dashpots out): 50 bonds broke without any tear; none at 2e-7 s. Without
+  // walls: against them the grains shatter (3,388 bonds) and reach farther past their subdomain than three
+  // ranks along y allow.
+  run_against_one_process(PdDamping::node_pairs, 4.0, 6.0, 3.0, 2.0, 2e-7, false, 1);
 }
 
 }  // namespace

@@ -59,6 +59,7 @@ System make_grains() {
     }
     s.grains.node_end[k] = static_cast<int>(s.nodes.size());
     s.grains.kind[k] = static_cast<int>(PdGrainKind::particle);
+    s.grains.id[k] = g;
     s.grains.material[k] = g % 2;
     s.grains.volume[k] = u(rng);
     s.grains.cx[k] = sum[0] / n, s.grains.cy[k] = sum[1] / n, s.grains.cz[k] = sum[2] / n;
@@ -134,7 +135,7 @@ std::string check(const Decomposition& d, System& mine, System& whole) {
       });
     });
     if (!same) return which + ": node columns differ";
-    for (const auto m : {&PdGrains::kind, &PdGrains::material})
+    for (const auto m : {&PdGrains::kind, &PdGrains::material, &PdGrains::id})
       if ((mine.grains.*m)[g] != (whole.grains.*m)[w]) return which + ": record differs";
     for (const auto m : {&PdGrains::volume, &PdGrains::cx, &PdGrains::cy, &PdGrains::cz, &PdGrains::cvx, &PdGrains::cvy,
                          &PdGrains::cvz, &PdGrains::wall_vx, &PdGrains::wall_vy, &PdGrains::wall_vz})

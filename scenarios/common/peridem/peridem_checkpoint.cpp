@@ -278,6 +278,8 @@ PeridemSimulation PeridemSimulation::restore(const h5::File& f, std::string* inp
     }
     sim.grain_names_ = g.read_strings("name");
     const std::size_t ng = gr.node_begin.size();
+    gr.id.resize(ng);
+    for (std::size_t k = 0; k < ng; ++k) gr.id[k] = static_cast<int>(k);
     for (const std::size_t s : {gr.node_end.size(), gr.kind.size(), gr.material.size(), gr.volume.size(), gr.cx.size(),
                                 gr.wall_vz.size(), sim.grain_names_.size()})
       if (s != ng) throw corrupt(path, "the grain arrays have different lengths");
@@ -348,6 +350,13 @@ PeridemSimulation PeridemSimulation::restore(const h5::File& f, std::string* inp
     to_device(at_build);
     sim.list_.build(at_build, sim.grains_, sim.bonds_, sim.table_.max_contact_radius(), sim.skin_);
     sim.device_changed(pairs_changed);  // the list's build positions are on the device only
+    // The centre damping's slot forces of the step that wrote the checkpoint (the wall reactions read them),
+    // from the same positions and velocities: the same bits.
+    if (sim.settings_.damping == PdDamping::grain_centres) {
+      pd_grain_centres(sim.nodes_, sim.grains_, sim.work_);
+      pd_centre_slot_forces(sim.table_, sim.nodes_, sim.grains_, sim.list_, sim.work_);
+      sim.device_changed(grains_changed);
+    }
   }
   return sim;
 }

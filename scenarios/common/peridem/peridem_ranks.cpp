@@ -36,10 +36,12 @@ double PeridemSimulation::ghost_width() const {
   // How far any node of a grain reaches past its grain's owner's subdomain (at a build every owned grain's
   // centre lies inside it), over all ranks, plus the contact reach. Before the ranks are cut: the farthest
   // any node lies from its grain's centre (grains.cx .. cz current), which bounds that reach.
+  // Walls are owned by position: their nodes lie in their owner's subdomain at a build.
   double reach = 0;
   for (std::size_t g = 0; g < grains_.size(); ++g) {
-    if (distributed_ && !halo_.owned_grains()[g]) continue;
+    if (grains_.kind[g] == static_cast<int>(PdGrainKind::wall)) continue;
     for (int i = grains_.node_begin[g]; i < grains_.node_end[g]; ++i) {
+      if (distributed_ && !halo_.owned_nodes()[static_cast<std::size_t>(i)]) continue;
       if (distributed_) {
         const double p[3] = {nodes_.x[i], nodes_.y[i], nodes_.z[i]};
         // (The first and last subdomains of an axis reach past the box: no face there.)
@@ -62,16 +64,13 @@ void PeridemSimulation::distribute(std::array<int, 3> rank_grid) {
   if constexpr (exec::offload_build())
     throw std::runtime_error("a PeriDEM run cut among MPI ranks runs on host threads so far: use a host build under mpirun");
   if (distributed_) throw std::logic_error("PeridemSimulation::distribute: already distributed");
-  for (std::size_t g = 0; g < grains_.size(); ++g)
-    if (grains_.kind[g] == static_cast<int>(PdGrainKind::wall))
-      throw input_error("walls." + grain_names_[g], "(a wall)",
-                        "walls are not cut among MPI ranks yet (issue 27): run this input as one process");
   if (settings_.damping_centre_node)
     throw input_error("damping_centre_node", "true", "is not cut among MPI ranks yet: run it as one process");
   for (std::size_t i = 1; i < nodes_.size(); ++i)
     if (nodes_.id[i] <= nodes_.id[i - 1])
       throw std::logic_error("PeridemSimulation::distribute: node ids must increase with the index, grain after grain");
   state_to_host();
+  grain_count_ = static_cast<int>(grains_.size());
   pd_grain_centres(nodes_, grains_, work_);
   const double width = ghost_width();
 
@@ -112,12 +111,10 @@ void PeridemSimulation::share_row_counts() {
 
 void PeridemSimulation::rebuild_distributed() {
   const PassTimer timer(times_.neighbours);
-  // The ghosts go (their owners send them again); grains whose centre left the subdomain move to its owner.
-  std::vector<int> mine;
-  for (std::size_t g = 0; g < grains_.size(); ++g)
-    if (halo_.owned_grains()[g]) mine.push_back(static_cast<int>(g));
+  // The ghosts go (their owners send them again); grains whose centre left the subdomain, and wall nodes
+  // that left it, move to its owner.
   comm::GrainStore store{nodes_, grains_, bonds_};
-  comm::select_grains(store, mine);
+  comm::keep_nodes(store, halo_.owned_nodes());
   try {
     times_.grains_migrated += static_cast<long>(comm::exchange_grains(decomposition_, box_, store).sent);
   } catch (const std::runtime_error& e) {

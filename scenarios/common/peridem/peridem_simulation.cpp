@@ -70,6 +70,7 @@ PeridemSimulation::PeridemSimulation(PdNodes nodes, PdGrains grains, std::vector
     lps_.push_back(PdLpsConstants::from(materials_[m], prefix.c_str()));
   }
   for (std::size_t g = 0; g < grains_.size(); ++g) {
+    grains_.id[g] = static_cast<int>(g);
     const int mat = grains_.material[g];
     if (mat < 0 || static_cast<std::size_t>(mat) >= materials_.size())
       throw input_error("grains[" + std::to_string(g) + "].material", std::to_string(mat),
@@ -327,13 +328,31 @@ void PeridemSimulation::refresh_grain_centres() {
 }
 
 std::vector<Vec3> PeridemSimulation::wall_reactions() const {
-  state_to_device();
-  pd_wall_reactions(nodes_, grains_, reactions_);
-  exec::to_host(reactions_);
-  return std::vector<Vec3>(reactions_.begin(), reactions_.end());
+  // Exact sums of the forces the walls take (pd_wall_reaction_sums): the same bits on any rank count.
+  nodes_to_host();
+  pairs_to_host();
+  for (const auto* v : {&work_.slot_fx, &work_.slot_fy, &work_.slot_fz}) exec::to_host(*v);  // the last pass's
+  const std::size_t grains = distributed_ ? static_cast<std::size_t>(grain_count_) : grains_.size();
+  std::vector<comm::ExactSum> sums(3 * grains);
+  pd_wall_reaction_sums(table_, settings_.damping, nodes_, grains_, list_, work_, settings_.time_step,
+                        distributed_ ? halo_.owned_nodes().data() : nullptr,
+                        distributed_ ? halo_.owned_grains().data() : nullptr, sums);
+  if (distributed_) comm::allreduce(sums.data(), static_cast<int>(sums.size()));
+  std::vector<Vec3> reaction(grains);
+  for (std::size_t g = 0; g < grains; ++g)
+    reaction[g] = {sums[3 * g].value(), sums[3 * g + 1].value(), sums[3 * g + 2].value()};
+  return reaction;
 }
 
-void PeridemSimulation::set_grain_velocity(int g, Vec3 v) {
+int PeridemSimulation::local_grain(int g) const {
+  if (!distributed_) return g;
+  const auto it = std::lower_bound(grains_.id.begin(), grains_.id.end(), g);
+  return it != grains_.id.end() && *it == g ? static_cast<int>(it - grains_.id.begin()) : -1;
+}
+
+void PeridemSimulation::set_grain_velocity(int whole_g, Vec3 v) {
+  const int g = local_grain(whole_g);
+  if (g < 0) return;  // held by other ranks
   nodes();  // current on the host, and marked as edited
   for (int i = grains_.node_begin[g]; i < grains_.node_end[g]; ++i) {
     nodes_.vx[i] = nodes_.fixed[i] & 1 ? 0.0 : v.x;
@@ -342,7 +361,9 @@ void PeridemSimulation::set_grain_velocity(int g, Vec3 v) {
   }
 }
 
-void PeridemSimulation::set_wall_velocity(int g, Vec3 v) {
+void PeridemSimulation::set_wall_velocity(int whole_g, Vec3 v) {
+  const int g = local_grain(whole_g);
+  if (g < 0) return;  // held by other ranks
   nodes();  // current on the host, and marked as edited
   grains();
   const std::size_t k = static_cast<std::size_t>(g);
@@ -356,7 +377,24 @@ void PeridemSimulation::set_wall_velocity(int g, Vec3 v) {
   }
 }
 
-void PeridemSimulation::move_wall(int g, Vec3 d) {
+void PeridemSimulation::move_wall(int whole_g, Vec3 d) {
+  const int g = local_grain(whole_g);
+  // A rank cut from the others checks the pieces of the wall it holds against the grains it holds (ghosts
+  // included), and all ranks stop alike when one finds a grain in the way.
+  std::string problem;
+  if (g >= 0) problem = move_held_wall(g, d);
+  if (distributed_) problem = comm::first_message(problem);
+  if (!problem.empty()) {
+    const std::string wall = static_cast<std::size_t>(whole_g) < grain_names_.size()
+                                 ? grain_names_[static_cast<std::size_t>(whole_g)]
+                                 : "wall" + std::to_string(whole_g);
+    throw input_error("walls." + wall,
+                      "moved by (" + format_value(d.x) + ", " + format_value(d.y) + ", " + format_value(d.z) + ") m",
+                      problem);
+  }
+}
+
+std::string PeridemSimulation::move_held_wall(int g, Vec3 d) {
   nodes();  // current on the host, and marked as edited
   const std::size_t k = static_cast<std::size_t>(g);
   const int b = grains_.node_begin[k], e = grains_.node_end[k];
@@ -388,18 +426,17 @@ void PeridemSimulation::move_wall(int g, Vec3 d) {
       const double dx = nodes_.x[j] - nodes_.x[i], dy = nodes_.y[j] - nodes_.y[i], dz = nodes_.z[j] - nodes_.z[i];
       const double dist = std::sqrt(dx * dx + dy * dy + dz * dz);
       if (dist < rc) {
-        const std::string wall = k < grain_names_.size() ? grain_names_[k] : "wall" + std::to_string(g);
-        const std::string grain = static_cast<std::size_t>(gj) < grain_names_.size()
-                                      ? grain_names_[static_cast<std::size_t>(gj)]
-                                      : "grain" + std::to_string(gj);
-        throw input_error("walls." + wall, "moved by (" + format_value(d.x) + ", " + format_value(d.y) + ", " +
-                                               format_value(d.z) + ") m",
-                          "at step " + std::to_string(step_) + " it would lie on grain '" + grain + "' (node " +
-                              std::to_string(nodes_.id[j]) + " is " + format_value(dist) +
-                              " m from a wall node, within the contact radius " + format_value(rc) + " m)");
+        const int whole_gj = grains_.id[static_cast<std::size_t>(gj)];
+        const std::string grain = static_cast<std::size_t>(whole_gj) < grain_names_.size()
+                                      ? grain_names_[static_cast<std::size_t>(whole_gj)]
+                                      : "grain" + std::to_string(whole_gj);
+        return "at step " + std::to_string(step_) + " it would lie on grain '" + grain + "' (node " +
+               std::to_string(nodes_.id[j]) + " is " + format_value(dist) +
+               " m from a wall node, within the contact radius " + format_value(rc) + " m)";
       }
     }
   }
+  return {};
 }
 
 void PeridemSimulation::set_gravity(Vec3 g) { settings_.gravity = g; }
@@ -424,27 +461,57 @@ void PeridemSimulation::recompute_forces() {
 PeridemDiagnostics PeridemSimulation::diagnostics() {
   PeridemDiagnostics d;
   const std::size_t n = nodes_.size();
-  // The passes first (on the device in offload builds), then the host's sums over the copies brought back.
+  // The per-node passes first (on the device in offload builds), then the host adds them up exactly over
+  // the nodes this rank owns (comm::ExactSum): the same bits on any rank count and storage order.
   state_to_device();
-  d.bond_energy = pd_elastic_energy(lps_, grains_, bonds_, nodes_);
-  d.contact_energy = pd_contact_elastic_energy(table_, nodes_, grains_, list_);
+  bond_density_.resize(n);
+  row_energy_.resize(n);
+  pd_energy_density_pass(lps_, grains_, bonds_, nodes_, bond_density_.data());
+  pd_contact_energy_rows(table_, nodes_, grains_, list_, row_energy_.data());
+  exec::to_host(bond_density_);
+  exec::to_host(row_energy_);
   refresh_damage();
   d.contact_pairs = touching_pairs();
   nodes_to_host();  // (the grains' kinds are constant: always current on the host)
+  enum { kinetic, px, py, pz, bond, contact, kSums };
+  comm::ExactSum sum[kSums];
   for (std::size_t i = 0; i < n; ++i) {
+    if (!owns_node(i)) continue;
+    sum[bond].add(nodes_.volume[i] * bond_density_[i]);
+    sum[contact].add(row_energy_[i]);
+    d.max_damage = std::max(d.max_damage, nodes_.damage[i]);
     if (!is_particle(grains_, nodes_.grain[i])) continue;
     const double m = nodes_.mass[i];
-    d.kinetic_energy += 0.5 * m * (nodes_.vx[i] * nodes_.vx[i] + nodes_.vy[i] * nodes_.vy[i] + nodes_.vz[i] * nodes_.vz[i]);
-    d.momentum += Vec3{m * nodes_.vx[i], m * nodes_.vy[i], m * nodes_.vz[i]};
+    sum[kinetic].add(0.5 * m * (nodes_.vx[i] * nodes_.vx[i] + nodes_.vy[i] * nodes_.vy[i] + nodes_.vz[i] * nodes_.vz[i]));
+    sum[px].add(m * nodes_.vx[i]);
+    sum[py].add(m * nodes_.vy[i]);
+    sum[pz].add(m * nodes_.vz[i]);
   }
-  for (std::size_t i = 0; i < n; ++i) d.max_damage = std::max(d.max_damage, nodes_.damage[i]);
-  d.broken_bonds = broken_total_;
+  std::int64_t broken = broken_total_;
+  if (distributed_) {
+    comm::allreduce(sum, kSums);
+    comm::allreduce_max(&d.max_damage, 1);
+    comm::allreduce_sum(&broken, 1);
+  }
+  d.kinetic_energy = sum[kinetic].value();
+  d.momentum = {sum[px].value(), sum[py].value(), sum[pz].value()};
+  d.bond_energy = sum[bond].value();
+  d.contact_energy = sum[contact].value();
+  d.broken_bonds = broken;
   return d;
 }
 
 long PeridemSimulation::touching_pairs() const {
   state_to_device();
-  return pd_touching_pairs(table_, nodes_, grains_, list_);
+  if (!distributed_) return pd_touching_pairs(table_, nodes_, grains_, list_);
+  // Each pair once over all ranks: in the row of its owned node of lower index (ids order both ranks alike).
+  std::int64_t touching = 0;
+  for_each_listed_pair([&](int i, int, double dist, double rc) {
+    touching += halo_.owned_nodes()[static_cast<std::size_t>(i)] && dist < rc ? 1 : 0;
+    return true;
+  });
+  comm::allreduce_sum(&touching, 1);
+  return static_cast<long>(touching);
 }
 
 double PeridemSimulation::deepest_penetration() const {

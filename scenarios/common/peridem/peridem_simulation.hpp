@@ -153,10 +153,15 @@ class PeridemSimulation {
 
   /// Grain centres and mean velocities (volume-weighted) at the current step, refreshed on demand.
   void refresh_grain_centres();
-  /// Total contact force on each wall grain this step (zero for particles).
+  /// Total contact force on each wall this step (zero for particles), by grain index in the whole system:
+  /// every term added exactly (pd_wall_reaction_sums), so the same bits on any rank count. Collective in a
+  /// run cut among ranks.
   std::vector<Vec3> wall_reactions() const;
+  /// Sums as exact sums (comm::ExactSum) over the nodes: the same bits on any rank count. Collective in a
+  /// run cut among ranks.
   PeridemDiagnostics diagnostics();
-  /// Node pairs closer than their contact radius R_c now (each pair once).
+  /// Node pairs closer than their contact radius R_c now (each pair once; collective in a run cut among
+  /// ranks).
   long touching_pairs() const;
   /// Empty when every position, velocity and force is finite; otherwise names the step and the node.
   std::string health_check() const;
@@ -249,6 +254,10 @@ class PeridemSimulation {
     }
   }
   void refuse_grains_in_walls() const;
+  /// The index here of grain g of the whole system (g itself on one process), -1 when not held here.
+  int local_grain(int g) const;
+  /// move_wall on the wall (or piece of it) held at index g: empty, or why it cannot go there.
+  std::string move_held_wall(int g, Vec3 d);
   // Each pair of the contact list once (i < j), with its distance and contact radius R_c; `visit(i, j, dist,
   // rc)` returns false to stop. The set-up check, the health check and the diagnostics share it.
   template <class Visit>
@@ -271,14 +280,15 @@ class PeridemSimulation {
   std::vector<PdContactSettings> contact_settings_;
   std::vector<std::string> grain_names_;
   PeridemPassTimes times_;
-  // Outputs of kernels the host reads (broken-bond fractions, wall reactions): device-resident scratch.
+  // Output of a kernel the host reads (broken-bond fractions): device-resident scratch.
   mutable exec::DeviceVector<double> broken_fraction_;
-  mutable exec::DeviceVector<Vec3> reactions_;
+  exec::DeviceVector<double> bond_density_, row_energy_;  // diagnostics(): W_i, and each row's contact energy
   mutable bool nodes_stale_ = false, grains_stale_ = false, pairs_stale_ = false;
   mutable bool nodes_edited_ = true, grains_edited_ = true;  // as constructed: on the host only
   // Cut among ranks: the decomposition of a box around the nodes at the set-up (walled on every axis), and
   // the ghost layer.
   bool distributed_ = false;
+  int grain_count_ = 0;  // grains and walls of the whole system
   comm::Decomposition decomposition_;
   Box box_;
   comm::PdHalo halo_;
