@@ -7,8 +7,8 @@
 //
 // borders() (at a list build) sends, as core/comm/halo does for particles, along each cut axis in turn the
 // nodes within the width of each face (owned, and ghosts of earlier axes), then stores owned and ghost nodes
-// together in increasing id, and their grains (whole owned grains, and ghost grains holding only their ghost
-// nodes) in increasing id of their first node: the order one process stores the whole system in, restricted
+// together in increasing id, and their grains (whole owned grains, pieces of walls, and ghost grains holding
+// only their ghost nodes) in increasing PdGrains::id: the order one process stores the whole system in, restricted
 // to what this rank holds. The contact list's rows are ascending in the node index, so an owned node's row
 // lists its partners in the order one process lists them, and every force sum adds the same terms in the
 // same order on any rank count.
@@ -28,9 +28,8 @@ namespace debris::comm {
 
 class PdHalo {
  public:
-  /// `s` holds this rank's own grains only (whole, sorted by the id of their first node, node ids increasing
-  /// within each grain and from one grain to the next, as grain_migration leaves them). Adds the ghost nodes
-  /// and grains and stores everything in id order (see above); ghost nodes get empty bond rows.
+  /// `s` holds this rank's own nodes only, in one process's order (as grain_migration leaves them). Adds the
+  /// ghost nodes and grains and stores everything in that order (see above); ghost nodes get empty bond rows.
   /// std::logic_error if the box is periodic.
   void borders(const Decomposition& d, const Box& box, double width, GrainStore s);
 
