@@ -164,7 +164,7 @@ void PdHalo::borders(const Decomposition& d, const Box& box, double width, Grain
   }
 }
 
-void PdHalo::forward(PdNodes& nodes, PdGrains& grains, std::vector<double>& grain_mass) const {
+void PdHalo::forward(PdNodes& nodes, PdGrains& grains, exec::DeviceVector<double>& grain_mass) const {
   if (nodes.size() != owned_node_.size() || grains.size() != owned_grain_.size() || grain_mass.size() != grains.size())
     throw std::logic_error("PdHalo::forward: the nodes or grains changed since borders()");
   const std::array<exec::DeviceVector<double>*, kNodeFields> node_columns{&nodes.x,  &nodes.y,  &nodes.z,
