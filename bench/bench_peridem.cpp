@@ -43,6 +43,7 @@
 #include <vector>
 
 #include "bench/bench_env.hpp"
+#include "bench/pd_tiles.hpp"
 #include "core/bond_list.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
@@ -75,57 +76,6 @@ std::string input_file() {
 double deck_kn() {
   const std::string deck = std::string(DEBRIS_SOURCE_DIR) + "/scenarios/peridem/data/compressive_n500/input_0.yaml";
   return YAML::LoadFile(deck)["Contact"]["Zone_11"]["Kn"].as<double>();
-}
-
-/// The system k x k times side by side: tile t is the input's system shifted by whole multiples of its
-/// extent plus 1 mm (far beyond the contact cutoff, so tiles never touch), the walls' motion repeated.
-/// Grain order as the reader makes it: the particle grains of every tile, then the walls of every tile.
-void tile(PeridemRunConfig& cfg, int tiles_per_side) {
-  if (tiles_per_side == 1) return;
-  const PdNodes in = cfg.nodes;
-  const PdGrains g = cfg.grains;
-  Vec3 lo{1e300, 1e300, 0}, hi{-1e300, -1e300, 0};
-  std::int64_t max_id = 0;
-  for (std::size_t i = 0; i < in.size(); ++i) {
-    lo.x = std::min(lo.x, in.x[i]), lo.y = std::min(lo.y, in.y[i]);
-    hi.x = std::max(hi.x, in.x[i]), hi.y = std::max(hi.y, in.y[i]);
-    max_id = std::max(max_id, in.id[i]);
-  }
-  const double pitch_x = hi.x - lo.x + 1e-3, pitch_y = hi.y - lo.y + 1e-3;
-  const int tiles = tiles_per_side * tiles_per_side;
-  PdNodes out;
-  PdGrains grains;
-  for (const int kind : {static_cast<int>(PdGrainKind::particle), static_cast<int>(PdGrainKind::wall)})
-    for (int t = 0; t < tiles; ++t)
-      for (std::size_t gi = 0; gi < g.size(); ++gi) {
-        if (g.kind[gi] != kind) continue;
-        const double sx = (t % tiles_per_side) * pitch_x, sy = (t / tiles_per_side) * pitch_y;
-        const int to = static_cast<int>(grains.size());
-        grains.resize(static_cast<std::size_t>(to) + 1);
-        const std::size_t k0 = out.size();
-        out.resize(k0 + static_cast<std::size_t>(g.node_end[gi] - g.node_begin[gi]));
-        for (int i = g.node_begin[gi]; i < g.node_end[gi]; ++i) {
-          const std::size_t k = k0 + static_cast<std::size_t>(i - g.node_begin[gi]);
-#define DEBRIS_COPY(name) out.name[k] = in.name[static_cast<std::size_t>(i)];
-          DEBRIS_PD_NODE_DOUBLE_FIELDS(DEBRIS_COPY)
-          DEBRIS_PD_NODE_INT_FIELDS(DEBRIS_COPY)
-          DEBRIS_PD_NODE_ID_FIELDS(DEBRIS_COPY)
-#undef DEBRIS_COPY
-          out.x0[k] += sx, out.x[k] += sx, out.y0[k] += sy, out.y[k] += sy;
-          out.grain[k] = to;
-          out.id[k] += t * (max_id + 1);
-        }
-        grains.node_begin[to] = static_cast<int>(k0);
-        grains.node_end[to] = static_cast<int>(out.size());
-        grains.kind[to] = g.kind[gi];
-        grains.material[to] = g.material[gi];
-        grains.volume[to] = g.volume[gi];
-        grains.cx[to] = g.cx[gi] + sx, grains.cy[to] = g.cy[gi] + sy, grains.cz[to] = g.cz[gi];
-        grains.cvx[to] = g.cvx[gi], grains.cvy[to] = g.cvy[gi], grains.cvz[to] = g.cvz[gi];
-        grains.wall_vx[to] = g.wall_vx[gi], grains.wall_vy[to] = g.wall_vy[gi], grains.wall_vz[to] = g.wall_vz[gi];
-      }
-  cfg.nodes = std::move(out);
-  cfg.grains = std::move(grains);
 }
 
 // ---------------------------------------------------------------------------------------------------------
@@ -178,7 +128,7 @@ PdSystem& deck_system(int tiles_per_side = 1) {
   if (cached) return *cached;
   auto s = std::make_unique<PdSystem>();
   PeridemRunConfig cfg = read_peridem_input(input_file());
-  tile(cfg, tiles_per_side);
+  tile_pd_system(cfg, tiles_per_side, tiles_per_side);
   s->sim = std::make_unique<PeridemSimulation>(std::move(cfg.nodes), std::move(cfg.grains), cfg.materials,
                                                cfg.contact, cfg.settings);
   s->sim->run(kWarmUpSteps);

@@ -206,7 +206,8 @@ void PdHalo::forward_counts(int* count) const {
 std::size_t PdHalo::forward_bytes() const {
   std::size_t n = 0;
   for (const Swap& s : swaps_)
-    n += (kNodeFields * s.send_nodes.size() + kGrainFields * s.send_grains.size()) * sizeof(double);
+    n += (kNodeFields * s.send_nodes.size() + kGrainFields * s.send_grains.size()) * sizeof(double) +
+         s.send_nodes.size() * sizeof(int);  // and forward_counts()
   return n;
 }
 

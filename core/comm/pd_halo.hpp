@@ -50,7 +50,7 @@ class PdHalo {
   /// Per grain held: 1 for the rank's own grains, 0 for ghost grains.
   const std::vector<unsigned char>& owned_grains() const { return owned_grain_; }
   std::size_t ghost_nodes() const { return ghost_nodes_; }
-  /// Bytes this rank sends in one forward().
+  /// Bytes this rank sends in one forward() and one forward_counts().
   std::size_t forward_bytes() const;
 
  private:

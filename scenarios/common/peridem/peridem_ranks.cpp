@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -98,6 +99,7 @@ void PeridemSimulation::distribute(std::array<int, 3> rank_grid) {
 
 void PeridemSimulation::refresh_ghosts() {
   pd_grain_centres(nodes_, grains_, work_);
+  const PassTimer timer(times_.comm);
   halo_.forward(nodes_, grains_, work_.grain_mass);
 }
 
@@ -106,11 +108,12 @@ void PeridemSimulation::share_row_counts() {
   work_.row_count.resize(n);
   const auto& offset = list_.offset();
   for (std::size_t i = 0; i < n; ++i) work_.row_count[i] = offset[i + 1] - offset[i];
+  const PassTimer timer(times_.comm);
   halo_.forward_counts(work_.row_count.data());
 }
 
 void PeridemSimulation::rebuild_distributed() {
-  const PassTimer timer(times_.neighbours);
+  std::optional<PassTimer> timer(std::in_place, times_.comm);
   // The ghosts go (their owners send them again); grains whose centre left the subdomain, and wall nodes
   // that left it, move to its owner.
   comm::GrainStore store{nodes_, grains_, bonds_};
@@ -137,7 +140,9 @@ void PeridemSimulation::rebuild_distributed() {
                             " m along " + std::string(1, "xyz"[a]) + "): run on fewer ranks");
   }
   halo_.borders(decomposition_, box_, width, store);
+  timer.reset();
   refresh_ghosts();
+  const PassTimer build_timer(times_.neighbours);
   list_.build(nodes_, grains_, bonds_, table_.max_contact_radius(), skin_);
   ++rebuilds_;
   ++times_.rebuilds;

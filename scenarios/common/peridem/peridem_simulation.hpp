@@ -64,7 +64,10 @@ struct PeridemPassTimes {
   double other = 0;        // zeroing forces, gravity
   long rebuilds = 0;       // contact list rebuilds in that time
   long self_contact_updates = 0;  // steps whose broken bonds were added to the list in place
-  long grains_migrated = 0;       // grains this rank sent to another at list builds (a run cut among ranks)
+  // A run cut among ranks: the ghosts' exchanges every step and the grains' migration and ghost layer at
+  // list builds (the list build itself stays in `neighbours`), and the grains this rank sent to others.
+  double comm = 0;
+  long grains_migrated = 0;
 };
 
 /// Sums over the system at one instant.
@@ -106,6 +109,9 @@ class PeridemSimulation {
   /// Per node held: 1 for this rank's own nodes, 0 for ghost copies (empty: one process, every node its own).
   const std::vector<unsigned char>& owned_nodes() const { return halo_.owned_nodes(); }
   const comm::Decomposition& decomposition() const { return decomposition_; }
+  /// Ghost nodes held (0 on one process) and the bytes this rank sends to them in a step without a build.
+  std::size_t ghost_nodes() const { return distributed_ ? halo_.ghost_nodes() : 0; }
+  std::size_t halo_bytes_per_step() const { return distributed_ ? halo_.forward_bytes() : 0; }
 
   // State. The accessors return the host copies, current (offload builds: copied back from the device if a
   // kernel changed them); the non-const ones count as an edit, sent to the device before the next kernel.
