@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "bench/over_ranks.hpp"
 #include "bench/pd_tiles.hpp"
 #include "core/comm/communicator.hpp"
 #include "core/exec.hpp"
@@ -21,19 +22,6 @@
 namespace {
 using namespace debris;
 using Clock = std::chrono::steady_clock;
-
-struct Spread {
-  double min, mean, max;
-};
-Spread over_ranks(double v) {
-  double mn = v, mx = v;
-  comm::allreduce_min(&mn, 1);
-  comm::allreduce_max(&mx, 1);
-  comm::ExactSum s;
-  s.add(v);
-  comm::allreduce(&s, 1);
-  return {mn, s.value() / comm::size(), mx};
-}
 
 void print(const char* what, Spread s, const char* unit) {
   if (comm::rank() == 0) std::printf("  %-34s %12.4g %12.4g %12.4g %s\n", what, s.min, s.mean, s.max, unit);

@@ -26,6 +26,7 @@
 
 #include <unistd.h>
 
+#include "bench/over_ranks.hpp"
 #include "core/box.hpp"
 #include "core/canonical_order.hpp"
 #include "core/comm/communicator.hpp"
@@ -48,20 +49,6 @@ namespace {
 using namespace debris;
 using Clock = std::chrono::steady_clock;
 double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
-
-// Min, max and mean over ranks.
-struct Spread {
-  double min, max, mean;
-};
-Spread over_ranks(double v) {
-  double mn = v, mx = v;
-  comm::allreduce_min(&mn, 1);
-  comm::allreduce_max(&mx, 1);
-  comm::ExactSum s;
-  s.add(v);
-  comm::allreduce(&s, 1);
-  return {mn, mx, s.value() / comm::size()};
-}
 
 // About per_rank particles per rank: an FCC block of Table 4's size, `ranks` times longer in x (sizes spread
 // 2%, positions displaced: every pair its own constants).

@@ -3,7 +3,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "core/block_sums.hpp"
 #include "core/comm/exact_sum.hpp"
 #include "core/exec.hpp"
 #include "core/pd_contact_list.hpp"
@@ -361,37 +360,12 @@ void pd_wall_reactions(const PdNodes& nodes, const PdGrains& grains, exec::Devic
 
 double pd_contact_elastic_energy(const PdContactTable& table, const PdNodes& nodes, const PdGrains& grains,
                                  const PdContactList& list) {
-  check_sizes(table, nodes, grains, list);
-  const int n = list.rows();
-  const int* offset = list.offset().data();
-  const int* index = list.index().data();
-  const double *x = nodes.x.data(), *y = nodes.y.data(), *z = nodes.z.data();
-  const double* volume = nodes.volume.data();
-  const int* grain = nodes.grain.data();
-  const int* material = grains.material.data();
-  const PdContactParams* pairs = table.pairs.data();
-  const int nm = table.materials;
-  // Fixed-order blocks of rows (core/block_sums.hpp): the same bits on any thread count.
-  const int blocks = sum_blocks(n);
-  BlockPartials partials;
-  double* part = partials.reserve(static_cast<std::size_t>(blocks));
-  DEBRIS_RESIDENT(offset, index, x, y, z, volume, grain, material, pairs, part);
-  DEBRIS_KERNEL
-  for (int b = 0; b < blocks; ++b) {
-    double energy = 0.0;
-    const BlockRange r = block_range(b, n);
-    for (int i = r.begin; i < r.end; ++i) {
-      for (int k = offset[i]; k < offset[i + 1]; ++k) {
-        const int j = index[k];
-        const double d = norm(Vec3{x[j] - x[i], y[j] - y[i], z[j] - z[i]});
-        // A full list holds each pair twice.
-        energy += 0.5 * pd_contact_energy(pairs[material[grain[i]] * nm + material[grain[j]]], d, volume[i], volume[j]);
-      }
-    }
-    part[b] = energy;
-  }
-  partials.to_host(static_cast<std::size_t>(blocks));
-  return partials.add_up<1>(blocks)[0];
+  exec::DeviceVector<double> rows(static_cast<std::size_t>(list.rows()));
+  pd_contact_energy_rows(table, nodes, grains, list, rows.data());
+  exec::to_host(rows);
+  comm::ExactSum sum;  // any order, the same bits
+  for (const double e : rows) sum.add(e);
+  return sum.value();
 }
 
 void pd_contact_energy_rows(const PdContactTable& table, const PdNodes& nodes, const PdGrains& grains,

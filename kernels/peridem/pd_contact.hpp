@@ -101,7 +101,8 @@ void pd_wall_reaction_sums(const PdContactTable& table, PdDamping damping, const
                            const PdContactList& list, const PdContactWork& work, double dt, const unsigned char* owned_node,
                            const unsigned char* owned_grain, std::vector<comm::ExactSum>& sums);
 
-/// Elastic energy stored in the contact springs, sum over pairs of 1/2 K_n delta^2 V V' (diagnostics).
+/// Elastic energy stored in the contact springs, sum over pairs of 1/2 K_n delta^2 V V': the exact sum of
+/// pd_contact_energy_rows.
 double pd_contact_elastic_energy(const PdContactTable& table, const PdNodes& nodes, const PdGrains& grains,
                                  const PdContactList& list);
 
