@@ -18,12 +18,6 @@ namespace {
 
 int tag_of(int axis, int dir) { return 300 + 2 * axis + (dir > 0 ? 1 : 0); }
 
-// A grain's record beside its node range: what travels with it.
-constexpr std::array<exec::DeviceVector<int> PdGrains::*, 3> kIntColumns{&PdGrains::kind, &PdGrains::material,
-                                                                         &PdGrains::id};
-constexpr std::array<exec::DeviceVector<double> PdGrains::*, 10> kDoubleColumns{
-    &PdGrains::volume, &PdGrains::cx,  &PdGrains::cy,      &PdGrains::cz,      &PdGrains::cvx,
-    &PdGrains::cvy,    &PdGrains::cvz, &PdGrains::wall_vx, &PdGrains::wall_vy, &PdGrains::wall_vz};
 
 bool is_wall(const PdGrains& g, std::size_t k) { return g.kind[k] == static_cast<int>(PdGrainKind::wall); }
 
@@ -31,8 +25,7 @@ bool is_wall(const PdGrains& g, std::size_t k) { return g.kind[k] == static_cast
 // wall's), with their bond rows, partners counted from rows.front() (a particle grain's bonds stay within it;
 // walls have none).
 void pack_piece(const GrainStore& s, std::size_t g, const std::vector<int>& rows, std::vector<char>& out) {
-  for (const auto m : kIntColumns) pack_value((s.grains.*m)[g], out);
-  for (const auto m : kDoubleColumns) pack_value((s.grains.*m)[g], out);
+  pack_value(GrainRecord::of(s.grains, g), out);
   pack_records(s.nodes, rows, out);
   const int base = rows.empty() ? 0 : rows.front();
   const bool bonded = !s.bonds.offset.empty();
@@ -59,8 +52,7 @@ std::size_t unpack_pieces(const std::vector<char>& in, GrainStore s) {
   for (std::size_t a = 0; a < n; ++a) {
     const std::size_t k = s.grains.size();
     s.grains.resize(k + 1);
-    for (const auto m : kIntColumns) (s.grains.*m)[k] = u.value<int>();
-    for (const auto m : kDoubleColumns) (s.grains.*m)[k] = u.value<double>();
+    u.value<GrainRecord>().store(s.grains, k);
     const auto [first, count] = u.records(s.nodes);
     s.grains.node_begin[k] = static_cast<int>(first);
     s.grains.node_end[k] = static_cast<int>(first + count);
@@ -86,7 +78,26 @@ int grain_id_of(const GrainStore& s, std::size_t i) {
   return s.grains.id[static_cast<std::size_t>(s.nodes.grain[i])];
 }
 
+// The record's columns, in its order.
+constexpr std::array<exec::DeviceVector<int> PdGrains::*, 3> kIntColumns{&PdGrains::kind, &PdGrains::material,
+                                                                         &PdGrains::id};
+constexpr std::array<exec::DeviceVector<double> PdGrains::*, 10> kDoubleColumns{
+    &PdGrains::volume, &PdGrains::cx,  &PdGrains::cy,      &PdGrains::cz,      &PdGrains::cvx,
+    &PdGrains::cvy,    &PdGrains::cvz, &PdGrains::wall_vx, &PdGrains::wall_vy, &PdGrains::wall_vz};
+
 }  // namespace
+
+GrainRecord GrainRecord::of(const PdGrains& g, std::size_t k) {
+  GrainRecord r;
+  for (std::size_t c = 0; c < kIntColumns.size(); ++c) r.ints[c] = (g.*kIntColumns[c])[k];
+  for (std::size_t c = 0; c < kDoubleColumns.size(); ++c) r.doubles[c] = (g.*kDoubleColumns[c])[k];
+  return r;
+}
+
+void GrainRecord::store(PdGrains& g, std::size_t k) const {
+  for (std::size_t c = 0; c < kIntColumns.size(); ++c) (g.*kIntColumns[c])[k] = ints[c];
+  for (std::size_t c = 0; c < kDoubleColumns.size(); ++c) (g.*kDoubleColumns[c])[k] = doubles[c];
+}
 
 std::vector<int> sort_store(GrainStore s) {
   const std::size_t n = s.nodes.size();
@@ -116,8 +127,7 @@ std::vector<int> sort_store(GrainStore s) {
   s.grains.resize(grain_ids.size());
   for (std::size_t g = 0; g < grain_ids.size(); ++g) {
     const auto from = static_cast<std::size_t>(record_of[g]);
-    for (const auto m : kIntColumns) (s.grains.*m)[g] = (old.*m)[from];
-    for (const auto m : kDoubleColumns) (s.grains.*m)[g] = (old.*m)[from];
+    GrainRecord::of(old, from).store(s.grains, g);
     s.grains.node_begin[g] = s.grains.node_end[g] = -1;
   }
 

@@ -13,6 +13,7 @@
 // PdGrains::id, each grain's nodes contiguous: the order one process stores them in (its grains are placed
 // with consecutive node ids, grain after grain). Every node's `grain` is the index of its grain here, bond
 // rows rebased onto the new node indices.
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -27,6 +28,15 @@ struct GrainStore {
   PdNodes& nodes;
   PdGrains& grains;
   BondList& bonds;
+};
+
+/// A grain's record beside its node range (kind, material, id, volume, centre, mean velocity, wall
+/// velocity): what travels with a grain or a piece of a wall, and what a ghost grain holds (core/comm/pd_halo).
+struct GrainRecord {
+  std::array<int, 3> ints{};
+  std::array<double, 10> doubles{};
+  static GrainRecord of(const PdGrains& g, std::size_t k);
+  void store(PdGrains& g, std::size_t k) const;
 };
 
 struct GrainExchangeCount {

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <map>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -17,29 +16,6 @@ namespace {
 
 // Tags of the swaps: axis and direction (apart from the particle halo's and the migrations').
 int tag_of(int axis, int dir) { return 500 + 2 * axis + (dir > 0 ? 1 : 0); }
-
-// What borders() sends of a ghost's grain: the grain's columns but its node range.
-struct GrainRecord {
-  int kind = 0, material = 0;
-  std::array<double, 10> value{};
-};
-constexpr std::array<exec::DeviceVector<double> PdGrains::*, 10> kGrainDoubles{
-    &PdGrains::volume, &PdGrains::cx,  &PdGrains::cy,      &PdGrains::cz,      &PdGrains::cvx,
-    &PdGrains::cvy,    &PdGrains::cvz, &PdGrains::wall_vx, &PdGrains::wall_vy, &PdGrains::wall_vz};
-
-GrainRecord record_of(const PdGrains& g, std::size_t k) {
-  GrainRecord r;
-  r.kind = g.kind[k];
-  r.material = g.material[k];
-  for (std::size_t c = 0; c < kGrainDoubles.size(); ++c) r.value[c] = (g.*kGrainDoubles[c])[k];
-  return r;
-}
-
-void store_record(PdGrains& g, std::size_t k, const GrainRecord& r) {
-  g.kind[k] = r.kind;
-  g.material[k] = r.material;
-  for (std::size_t c = 0; c < kGrainDoubles.size(); ++c) (g.*kGrainDoubles[c])[k] = r.value[c];
-}
 
 // What forward() sends: a node's position and velocity, a grain's centre, mean velocity and mass.
 constexpr std::size_t kNodeFields = 6, kGrainFields = 7;
@@ -68,7 +44,7 @@ void PdHalo::borders(const Decomposition& d, const Box& box, double width, Grain
   const auto record_of_key = [&](int key) {
     const auto it = std::lower_bound(s.grains.id.begin(), s.grains.id.begin() + static_cast<std::ptrdiff_t>(g_owned), key);
     if (it != s.grains.id.begin() + static_cast<std::ptrdiff_t>(g_owned) && *it == key)
-      return record_of(s.grains, static_cast<std::size_t>(it - s.grains.id.begin()));
+      return GrainRecord::of(s.grains, static_cast<std::size_t>(it - s.grains.id.begin()));
     return ghost_grain.at(key);
   };
 
@@ -125,8 +101,7 @@ void PdHalo::borders(const Decomposition& d, const Box& box, double width, Grain
   for (const auto& [key, r] : ghost_grain) {
     const std::size_t g = s.grains.size();
     s.grains.resize(g + 1);
-    store_record(s.grains, g, r);
-    s.grains.id[g] = key;
+    r.store(s.grains, g);  // (its id, key, included)
     appended[key] = static_cast<int>(g);
   }
   for (std::size_t i = n_owned; i < s.nodes.size(); ++i) s.nodes.grain[i] = appended.at(node_key[i]);
