@@ -42,7 +42,7 @@ Decomposition Decomposition::make(const Box& box, int ranks, int rank, double gh
   const auto refuse = [&](const std::string& what) {
     std::ostringstream os;
     os << what << "; subdomains must be at least twice the ghost width (2 x " << format_value(ghost_width)
-       << " m = max cutoff + skin) wide on every cut axis, so this box takes at most " << largest[0]
+       << " m: the pair cutoff + skin, and for PeriDEM grains their reach) wide on every cut axis, so this box takes at most " << largest[0]
        << " along x, " << largest[1] << " along y and " << largest[2] << " along z ("
        << static_cast<long>(largest[0]) * largest[1] * largest[2]
        << " ranks in all); run on fewer ranks or on a larger sample";

@@ -167,8 +167,10 @@ std::vector<int> sort_store(GrainStore s) {
   return order;
 }
 
-void keep_nodes(GrainStore s, const std::vector<unsigned char>& keep) {
-  if (keep.size() != s.nodes.size()) throw std::logic_error("comm::keep_nodes: one flag per node is needed");
+namespace {
+// The pieces of `s` made of the nodes flagged in `keep`, as one message (the count of pieces first).
+std::vector<char> pack_kept(const GrainStore& s, const std::vector<unsigned char>& keep) {
+  if (keep.size() != s.nodes.size()) throw std::logic_error("comm: one flag per node is needed");
   std::vector<char> message(sizeof(std::int64_t));  // the count of pieces, written last
   std::int64_t pieces = 0;
   for (std::size_t g = 0; g < s.grains.size(); ++g) {
@@ -177,17 +179,34 @@ void keep_nodes(GrainStore s, const std::vector<unsigned char>& keep) {
       if (keep[static_cast<std::size_t>(i)]) rows.push_back(i);
     if (rows.empty()) continue;
     if (!is_wall(s.grains, g) && static_cast<int>(rows.size()) != s.grains.node_end[g] - s.grains.node_begin[g])
-      throw std::logic_error("comm::keep_nodes: a particle grain is kept whole or not at all");
+      throw std::logic_error("comm: a particle grain is kept whole or not at all");
     pack_piece(s, g, rows, message);
     ++pieces;
   }
   std::memcpy(message.data(), &pieces, sizeof pieces);
+  return message;
+}
+
+void clear(GrainStore s) {
   s.nodes.resize(0);
   s.grains.resize(0);
   s.bonds = BondList{};
   s.bonds.offset.assign(1, 0);
+}
+}  // namespace
+
+void keep_nodes(GrainStore s, const std::vector<unsigned char>& keep) {
+  const std::vector<char> message = pack_kept(s, keep);
+  clear(s);
   unpack_pieces(message, s);
   sort_store(s);
+}
+
+void gather_to_root(const GrainStore& s, const std::vector<unsigned char>& owned, GrainStore whole) {
+  const std::vector<std::vector<char>> all = gather_to_root(pack_kept(s, owned));
+  clear(whole);
+  for (const std::vector<char>& message : all) unpack_pieces(message, whole);  // none but on rank 0
+  if (!all.empty()) sort_store(whole);
 }
 
 void select_grains(GrainStore s, const std::vector<int>& which) {

@@ -59,6 +59,12 @@ void select_grains(GrainStore s, const std::vector<int>& which);
 /// Keeps the nodes flagged 1 (a particle grain's all or none; any of a wall's) and drops the others.
 void keep_nodes(GrainStore s, const std::vector<unsigned char>& keep);
 
+/// The whole system on rank 0, in one process's order (collective; a checkpoint's gather): every rank sends
+/// its nodes flagged in `owned` (ghost copies are not sent) with their grains or pieces of walls and bond
+/// rows, and rank 0 stores them all in `whole` (emptied first), pieces of one wall merged. `whole` stays
+/// empty on the other ranks.
+void gather_to_root(const GrainStore& s, const std::vector<unsigned char>& owned, GrainStore whole);
+
 /// Puts the store in one process's order (above), merging grains of one id (pieces of a wall). Returns the
 /// order: new node i was node order[i].
 std::vector<int> sort_store(GrainStore s);

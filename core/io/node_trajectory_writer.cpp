@@ -1,8 +1,10 @@
 #include "core/io/node_trajectory_writer.hpp"
 
 #include <cstdint>
+#include <numeric>
 #include <stdexcept>
 
+#include "core/comm/communicator.hpp"
 #include "core/error.hpp"
 #include "core/io/hdf5_file.hpp"
 #include "core/io/xdmf.hpp"
@@ -10,59 +12,109 @@
 
 namespace debris {
 
+NodeFrameShare NodeFrameShare::all_of(const PdNodes& nodes) {
+  NodeFrameShare all;
+  all.which.resize(nodes.size());
+  std::iota(all.which.begin(), all.which.end(), 0);
+  all.rows.resize(nodes.size());
+  std::iota(all.rows.begin(), all.rows.end(), std::int64_t{0});
+  all.total = nodes.size();
+  return all;
+}
+
+namespace {
+std::vector<int> grain_column(const PdGrains& grains, bool ids) {
+  const auto& c = ids ? grains.id : grains.kind;
+  return std::vector<int>(c.begin(), c.end());
+}
+}  // namespace
+
 NodeTrajectoryWriter::NodeTrajectoryWriter(const std::string& dir, const std::string& stem, const PdNodes& nodes,
                                            const PdGrains& grains, const std::vector<std::string>& grain_names)
+    : NodeTrajectoryWriter(dir, stem, nodes, NodeFrameShare::all_of(nodes), {}, grain_column(grains, false),
+                           grain_names, false) {}
+
+NodeTrajectoryWriter::NodeTrajectoryWriter(const std::string& dir, const std::string& stem, const PdNodes& nodes,
+                                           const NodeFrameShare& share, const std::vector<int>& grain_ids,
+                                           const std::vector<int>& grain_kinds,
+                                           const std::vector<std::string>& grain_names, bool all_ranks)
     : h5_name_(stem + ".h5"),
       h5_path_(dir + "/" + stem + ".h5"),
       xmf_path_(dir + "/" + stem + ".xmf"),
-      nodes_(nodes.size()) {
+      nodes_(share.total),
+      all_ranks_(all_ranks) {
   xdmf::check_stem(stem);
-  if (grain_names.size() != grains.size())
+  if (grain_names.size() != grain_kinds.size())
     throw std::invalid_argument("node trajectory: " + std::to_string(grain_names.size()) + " names for " +
-                                std::to_string(grains.size()) + " grains");
+                                std::to_string(grain_kinds.size()) + " grains");
+  const std::size_t n = share.which.size();
+  std::vector<std::int64_t> id(n);
+  std::vector<std::int32_t> grain(n);
+  std::vector<double> volume(n);
+  for (std::size_t r = 0; r < n; ++r) {
+    const auto i = static_cast<std::size_t>(share.which[r]);
+    id[r] = nodes.id[i];
+    const int g = nodes.grain[i];
+    grain[r] = grain_ids.empty() ? g : grain_ids[static_cast<std::size_t>(g)];
+    volume[r] = nodes.volume[i];
+  }
   try {
-    h5::File file(h5_path_, h5::File::Mode::create, {.file_locking = false, .group_leaf_k = xdmf::kFramesPerLeaf / 2});
+    h5::File file(h5_path_, h5::File::Mode::create,
+                  {.file_locking = false, .group_leaf_k = xdmf::kFramesPerLeaf / 2, .all_ranks = all_ranks_});
     file.set_string_attribute("format",
                               "debris node trajectory 1: nodes/{id,grain,volume}, grains/{name,kind}, "
                               "frames/<k>/{position,velocity,force,damage,broken_fraction}");
-    file.write("nodes/id", nodes.id);
-    file.write("nodes/grain", nodes.grain);
-    file.write("nodes/volume", nodes.volume);
+    const h5::RowSelection one(share.rows, {share.total});
+    file.write_rows<std::int64_t>("nodes/id", id, one);
+    file.write_rows<std::int32_t>("nodes/grain", grain, one);
+    file.write_rows<double>("nodes/volume", volume, one);
     file.write_strings("grains/name", grain_names);
-    file.write("grains/kind", grains.kind);
+    file.write("grains/kind", std::vector<std::int32_t>(grain_kinds.begin(), grain_kinds.end()));
     file.create_group("frames", {.reserved_name_bytes = xdmf::kFrameNameBytes});
     file.flush();
     file.close();
   } catch (const std::runtime_error& e) {
     throw output_error(h5_path_, e.what());
   }
-  write_xmf();
+  if (!all_ranks_ || comm::rank() == 0) write_xmf();
 }
 
 void NodeTrajectoryWriter::write_frame(long step, double time, const PdNodes& nodes,
                                        const std::vector<double>& broken_fraction) {
-  const std::size_t n = nodes.size();
-  if (n != nodes_ || broken_fraction.size() != n)
-    throw std::invalid_argument("node trajectory " + h5_path_ + ": " + std::to_string(n) + " nodes and " +
-                                std::to_string(broken_fraction.size()) + " damage values, the file holds " +
-                                std::to_string(nodes_));
-  std::vector<double> position(3 * n), velocity(3 * n), force(3 * n);
-  for (std::size_t i = 0; i < n; ++i) {
-    position[3 * i] = nodes.x[i], position[3 * i + 1] = nodes.y[i], position[3 * i + 2] = nodes.z[i];
-    velocity[3 * i] = nodes.vx[i], velocity[3 * i + 1] = nodes.vy[i], velocity[3 * i + 2] = nodes.vz[i];
-    force[3 * i] = nodes.fx[i], force[3 * i + 1] = nodes.fy[i], force[3 * i + 2] = nodes.fz[i];
+  if (nodes.size() != nodes_)
+    throw std::invalid_argument("node trajectory " + h5_path_ + ": " + std::to_string(nodes.size()) +
+                                " nodes, the file holds " + std::to_string(nodes_));
+  write_frame(step, time, nodes, NodeFrameShare::all_of(nodes), broken_fraction);
+}
+
+void NodeTrajectoryWriter::write_frame(long step, double time, const PdNodes& nodes, const NodeFrameShare& share,
+                                       const std::vector<double>& broken_fraction) {
+  const std::size_t n = share.which.size();
+  if (share.total != nodes_ || broken_fraction.size() != nodes.size())
+    throw std::invalid_argument("node trajectory " + h5_path_ + ": a frame of " + std::to_string(share.total) +
+                                " nodes with " + std::to_string(broken_fraction.size()) + " damage values for " +
+                                std::to_string(nodes.size()) + " held, the file holds " + std::to_string(nodes_));
+  std::vector<double> position(3 * n), velocity(3 * n), force(3 * n), damage(n), broken(n);
+  for (std::size_t r = 0; r < n; ++r) {
+    const auto i = static_cast<std::size_t>(share.which[r]);
+    position[3 * r] = nodes.x[i], position[3 * r + 1] = nodes.y[i], position[3 * r + 2] = nodes.z[i];
+    velocity[3 * r] = nodes.vx[i], velocity[3 * r + 1] = nodes.vy[i], velocity[3 * r + 2] = nodes.vz[i];
+    force[3 * r] = nodes.fx[i], force[3 * r + 1] = nodes.fy[i], force[3 * r + 2] = nodes.fz[i];
+    damage[r] = nodes.damage[i];
+    broken[r] = broken_fraction[i];
   }
   const std::size_t k = frames_.size();
   try {
     // Open only inside this block; the frame is flushed before it is linked (trajectory_writer.cpp).
-    h5::File file(h5_path_, h5::File::Mode::read_write, {.file_locking = false});
+    h5::File file(h5_path_, h5::File::Mode::read_write, {.file_locking = false, .all_ranks = all_ranks_});
     {
       h5::Group g = file.create_unlinked_group({.small = true});
-      g.write("position", position, n, 3);
-      g.write("velocity", velocity, n, 3);
-      g.write("force", force, n, 3);
-      g.write("damage", nodes.damage);
-      g.write("broken_fraction", broken_fraction);
+      const h5::RowSelection one(share.rows, {share.total}), three(share.rows, {share.total, 3});
+      g.write_rows<double>("position", position, three);
+      g.write_rows<double>("velocity", velocity, three);
+      g.write_rows<double>("force", force, three);
+      g.write_rows<double>("damage", damage, one);
+      g.write_rows<double>("broken_fraction", broken, one);
       g.set_attribute("step", static_cast<std::int64_t>(step));
       g.set_attribute("time", time);
       file.flush();
@@ -73,7 +125,7 @@ void NodeTrajectoryWriter::write_frame(long step, double time, const PdNodes& no
     throw output_error(h5_path_, e.what());
   }
   frames_.push_back({step, time});
-  write_xmf();  // only now is frame k complete on disk
+  if (!all_ranks_ || comm::rank() == 0) write_xmf();  // only now is frame k complete on disk
 }
 
 void NodeTrajectoryWriter::write_xmf() const {
