@@ -23,6 +23,9 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "core/comm/communicator.hpp"
+#include "core/comm/grain_migration.hpp"
+#include "core/comm/pack.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/io/hdf5_file.hpp"
@@ -50,6 +53,51 @@ bool all_finite(const std::vector<double>& v) {
 
 void PeridemSimulation::write_checkpoint(const std::string& path, const std::string& input_echo) const {
   state_to_host();
+  if (distributed_) return write_distributed_checkpoint(path, input_echo);
+  const std::vector<double> at_build[3] = {{list_.x_at_build().begin(), list_.x_at_build().end()},
+                                           {list_.y_at_build().begin(), list_.y_at_build().end()},
+                                           {list_.z_at_build().begin(), list_.z_at_build().end()}};
+  write_checkpoint_of(path, input_echo, nodes_, grains_, bonds_, at_build, broken_total_);
+}
+
+void PeridemSimulation::write_distributed_checkpoint(const std::string& path, const std::string& input_echo) const {
+  // The whole system on rank 0, as one process holds it: every rank's own nodes with their grains (a wall's
+  // pieces merged) and bond rows, and the positions of its own nodes at the list's last build.
+  PdNodes nodes;
+  PdGrains grains;
+  BondList bonds;
+  // (Read only: the store's references are not const.)
+  const comm::GrainStore mine{const_cast<PdNodes&>(nodes_), const_cast<PdGrains&>(grains_), const_cast<BondList&>(bonds_)};
+  comm::gather_to_root(mine, halo_.owned_nodes(), {nodes, grains, bonds});
+  std::vector<char> built;
+  for (std::size_t i = 0; i < nodes_.size(); ++i)
+    if (owns_node(i)) {
+      comm::pack_value(nodes_.id[i], built);
+      for (const auto* c : {&list_.x_at_build(), &list_.y_at_build(), &list_.z_at_build()}) comm::pack_value((*c)[i], built);
+    }
+  const std::vector<std::vector<char>> parts = comm::gather_to_root(built);
+  std::int64_t broken = broken_total_;  // each rank's count of the bonds it broke
+  comm::allreduce_sum(&broken, 1);
+  if (comm::rank() != 0) return;  // rank 0 writes the file
+  std::vector<double> at_build[3];
+  for (auto& c : at_build) c.assign(nodes.size(), 0.0);
+  for (const std::vector<char>& part : parts) {
+    comm::Unpacker u(part);
+    while (!u.done()) {
+      const auto id = u.value<std::int64_t>();
+      const auto w = static_cast<std::size_t>(std::lower_bound(nodes.id.begin(), nodes.id.end(), id) - nodes.id.begin());
+      for (auto& c : at_build) c[w] = u.value<double>();
+    }
+  }
+  // The centres one process holds at this step (a piece of a wall had its own): from the gathered nodes.
+  PdContactWork work;
+  pd_grain_centres(nodes, grains, work);
+  write_checkpoint_of(path, input_echo, nodes, grains, bonds, at_build, broken);
+}
+
+void PeridemSimulation::write_checkpoint_of(const std::string& path, const std::string& input_echo, const PdNodes& nodes,
+                                            const PdGrains& grains, const BondList& bonds,
+                                            const std::vector<double> at_build[3], long broken_total) const {
   write_checkpoint_file(path, [&](const std::string& tmp) {
     h5::File f(tmp, h5::File::Mode::create);
     f.set_attribute<std::int64_t>("format_version", kFormatVersion);
@@ -60,11 +108,13 @@ void PeridemSimulation::write_checkpoint(const std::string& path, const std::str
       h5::Group state = f.create_group("state");
       state.write_scalar<std::int64_t>("step", step_);
       state.write_scalar<double>("time", time_);
-      state.write_scalar<std::int64_t>("broken_bonds", broken_total_);
+      state.write_scalar<std::int64_t>("broken_bonds", broken_total);
       state.write_scalar<std::int64_t>("contact_rebuilds", rebuilds_);
       state.write_scalar<double>("mesh_size", mesh_size_);
       state.write_scalar<double>("stable_time_step", stable_dt_);
       state.write_scalar<double>("skin", skin_);
+      state.write("placed_box", std::vector<double>{placed_lo_.x, placed_lo_.y, placed_lo_.z, placed_hi_.x,
+                                                    placed_hi_.y, placed_hi_.z});
     }
     {
       h5::Group set = f.create_group("settings");
@@ -89,46 +139,46 @@ void PeridemSimulation::write_checkpoint(const std::string& path, const std::str
       set.write("contact", contact, contact_settings_.size(), kContactFields);
     }
     {
-      h5::Group nodes = f.create_group("nodes");
-      nodes_.for_each_column([&](const char* name, const auto& col) { nodes.write(name, col); });
+      h5::Group columns = f.create_group("nodes");
+      nodes.for_each_column([&](const char* name, const auto& col) { columns.write(name, col); });
     }
     {
       h5::Group g = f.create_group("grains");
-      g.write("node_begin", grains_.node_begin);
-      g.write("node_end", grains_.node_end);
-      g.write("kind", grains_.kind);
-      g.write("material", grains_.material);
-      g.write("volume", grains_.volume);
-      g.write("cx", grains_.cx);
-      g.write("cy", grains_.cy);
-      g.write("cz", grains_.cz);
-      g.write("cvx", grains_.cvx);
-      g.write("cvy", grains_.cvy);
-      g.write("cvz", grains_.cvz);
-      g.write("wall_vx", grains_.wall_vx);
-      g.write("wall_vy", grains_.wall_vy);
-      g.write("wall_vz", grains_.wall_vz);
+      g.write("node_begin", grains.node_begin);
+      g.write("node_end", grains.node_end);
+      g.write("kind", grains.kind);
+      g.write("material", grains.material);
+      g.write("volume", grains.volume);
+      g.write("cx", grains.cx);
+      g.write("cy", grains.cy);
+      g.write("cz", grains.cz);
+      g.write("cvx", grains.cvx);
+      g.write("cvy", grains.cvy);
+      g.write("cvz", grains.cvz);
+      g.write("wall_vx", grains.wall_vx);
+      g.write("wall_vy", grains.wall_vy);
+      g.write("wall_vz", grains.wall_vz);
       g.write_strings("name", grain_names_);
     }
     {
       h5::Group b = f.create_group("bonds");
-      b.write("offset", bonds_.offset);
+      b.write("offset", bonds.offset);
       std::vector<std::int64_t> broken;
       std::vector<std::int32_t> partner;
-      for (std::size_t k = 0; k < bonds_.entries(); ++k)
-        if (bonds_.broken[k]) {
+      for (std::size_t k = 0; k < bonds.entries(); ++k)
+        if (bonds.broken[k]) {
           broken.push_back(static_cast<std::int64_t>(k));
-          partner.push_back(bonds_.partner[k]);
+          partner.push_back(bonds.partner[k]);
         }
-      b.write_scalar<std::int64_t>("entries", static_cast<std::int64_t>(bonds_.entries()));
+      b.write_scalar<std::int64_t>("entries", static_cast<std::int64_t>(bonds.entries()));
       b.write("broken_entry", broken);
       b.write("broken_partner", partner);
     }
     {
       h5::Group l = f.create_group("contact_list");
-      l.write("x_at_build", list_.x_at_build());
-      l.write("y_at_build", list_.y_at_build());
-      l.write("z_at_build", list_.z_at_build());
+      l.write("x_at_build", at_build[0]);
+      l.write("y_at_build", at_build[1]);
+      l.write("z_at_build", at_build[2]);
     }
     f.close();
   });
@@ -212,6 +262,7 @@ PeridemSimulation PeridemSimulation::restore(const h5::File& f, std::string* inp
       throw corrupt(path, "settings/contact holds " + std::to_string(sim.contact_settings_.size()) + " settings for " +
                               std::to_string(nm) + " materials");
   }
+  bool placed_box_read = false;
   {
     const h5::Group state = f.open_group("state");
     sim.step_ = state.read_scalar<std::int64_t>("step");
@@ -221,6 +272,15 @@ PeridemSimulation PeridemSimulation::restore(const h5::File& f, std::string* inp
     sim.mesh_size_ = state.read_scalar<double>("mesh_size");
     sim.stable_dt_ = state.read_scalar<double>("stable_time_step");
     sim.skin_ = state.read_scalar<double>("skin");
+    // Absent from checkpoints written before runs were cut among ranks: the box of the nodes as they are.
+    if (state.has("placed_box")) {
+      const auto b = state.read<double>("placed_box").values;
+      if (b.size() != 6 || !all_finite(b) || b[0] > b[3] || b[1] > b[4] || b[2] > b[5])
+        throw corrupt(path, "state/placed_box is not a box");
+      sim.placed_lo_ = {b[0], b[1], b[2]};
+      sim.placed_hi_ = {b[3], b[4], b[5]};
+      placed_box_read = true;
+    }
     if (sim.step_ < 0 || !std::isfinite(sim.time_) || sim.broken_total_ < 0 || sim.rebuilds_ < 0 ||
         !std::isfinite(sim.mesh_size_) || !(sim.mesh_size_ > 0) || !std::isfinite(sim.stable_dt_) ||
         !(sim.stable_dt_ > 0) || !std::isfinite(sim.skin_) || sim.skin_ < 0)
@@ -253,6 +313,7 @@ PeridemSimulation PeridemSimulation::restore(const h5::File& f, std::string* inp
         throw corrupt(path, "node id " + std::to_string(sim.nodes_.id[i]) +
                                 " has a volume or mass that is not positive, or an unknown fixed mask");
   }
+  if (!placed_box_read) sim.set_placed_box();
   {
     const h5::Group g = f.open_group("grains");
     PdGrains& gr = sim.grains_;

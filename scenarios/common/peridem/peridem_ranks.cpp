@@ -33,6 +33,15 @@
 
 namespace debris {
 
+void PeridemSimulation::set_placed_box() {
+  placed_lo_ = {nodes_.x[0], nodes_.y[0], nodes_.z[0]};
+  placed_hi_ = placed_lo_;
+  for (std::size_t i = 0; i < nodes_.size(); ++i) {
+    placed_lo_ = {std::min(placed_lo_.x, nodes_.x[i]), std::min(placed_lo_.y, nodes_.y[i]), std::min(placed_lo_.z, nodes_.z[i])};
+    placed_hi_ = {std::max(placed_hi_.x, nodes_.x[i]), std::max(placed_hi_.y, nodes_.y[i]), std::max(placed_hi_.z, nodes_.z[i])};
+  }
+}
+
 double PeridemSimulation::ghost_width() const {
   // How far any node of a grain reaches past its grain's owner's subdomain (at a build every owned grain's
   // centre lies inside it), over all ranks, plus the contact reach. Before the ranks are cut: the farthest
@@ -71,18 +80,40 @@ void PeridemSimulation::distribute(std::array<int, 3> rank_grid) {
     if (nodes_.id[i] <= nodes_.id[i - 1])
       throw std::logic_error("PeridemSimulation::distribute: node ids must increase with the index, grain after grain");
   state_to_host();
+  // The whole system's tables that output needs on every rank (kinds, node count, ids where they have gaps).
   grain_count_ = static_cast<int>(grains_.size());
+  node_total_ = nodes_.size();
+  whole_kinds_.assign(grains_.kind.begin(), grains_.kind.end());
+  whole_ids_.clear();
+  for (std::size_t i = 0; i < nodes_.size(); ++i)
+    if (nodes_.id[i] != static_cast<std::int64_t>(i)) {
+      whole_ids_.assign(nodes_.id.begin(), nodes_.id.end());
+      break;
+    }
+  // Bonds broken so far are counted once, on rank 0 (each rank counts those it breaks from here).
+  if (comm::rank() != 0) broken_total_ = 0;
+
+  // The last list build replayed on these ranks: owners, ghosts and the list chosen by the positions at
+  // that build (the list's own; the current ones at a fresh set-up), so a restored run continues with its
+  // list, its next build at the same step, and one process's bits. The current state comes back after.
+  const std::size_t n = nodes_.size();
+  std::vector<double> now[3] = {{nodes_.x.begin(), nodes_.x.end()}, {nodes_.y.begin(), nodes_.y.end()},
+                                {nodes_.z.begin(), nodes_.z.end()}};
+  const std::vector<double> at_build[3] = {{list_.x_at_build().begin(), list_.x_at_build().end()},
+                                           {list_.y_at_build().begin(), list_.y_at_build().end()},
+                                           {list_.z_at_build().begin(), list_.z_at_build().end()}};
+  if (at_build[0].size() != n) throw std::logic_error("PeridemSimulation::distribute: the list does not match the nodes");
+  nodes_.x.assign(at_build[0].begin(), at_build[0].end());
+  nodes_.y.assign(at_build[1].begin(), at_build[1].end());
+  nodes_.z.assign(at_build[2].begin(), at_build[2].end());
   pd_grain_centres(nodes_, grains_, work_);
   const double width = ghost_width();
 
-  // A box around the nodes as placed, walled on every axis (the end subdomains reach past it); an axis
+  // The box around the nodes as placed, walled on every axis (the end subdomains reach past it); an axis
   // shorter than four ghost widths (the flat axis of a 2D run) is never cut.
-  Vec3 lo{nodes_.x[0], nodes_.y[0], nodes_.z[0]}, hi = lo;
-  for (std::size_t i = 0; i < nodes_.size(); ++i) {
-    lo = {std::min(lo.x, nodes_.x[i]), std::min(lo.y, nodes_.y[i]), std::min(lo.z, nodes_.z[i])};
-    hi = {std::max(hi.x, nodes_.x[i]), std::max(hi.y, nodes_.y[i]), std::max(hi.z, nodes_.z[i])};
-  }
-  hi = {std::max(hi.x, lo.x + width), std::max(hi.y, lo.y + width), std::max(hi.z, lo.z + width)};
+  const Vec3 lo = placed_lo_;
+  const Vec3 hi{std::max(placed_hi_.x, lo.x + width), std::max(placed_hi_.y, lo.y + width),
+                std::max(placed_hi_.z, lo.z + width)};
   box_ = Box(lo, hi, {false, false, false});
   decomposition_ = comm::Decomposition::make(box_, comm::size(), comm::rank(), width, rank_grid, "run.ranks");
 
@@ -91,10 +122,17 @@ void PeridemSimulation::distribute(std::array<int, 3> rank_grid) {
   halo_.set_owned(nodes_.size(), grains_.size());
   distributed_ = true;
   halo_.borders(decomposition_, box_, ghost_width(), store);
+  list_.build(nodes_, grains_, bonds_, table_.max_contact_radius(), skin_);  // not counted: one process built it
+  for (std::size_t i = 0; i < nodes_.size(); ++i) {
+    const auto w = static_cast<std::size_t>(whole_index(nodes_.id[i]));
+    nodes_.x[i] = now[0][w];
+    nodes_.y[i] = now[1][w];
+    nodes_.z[i] = now[2][w];
+  }
   refresh_ghosts();
-  // The list of the constructor again, now of this rank's nodes (not counted: one process built it once).
-  list_.build(nodes_, grains_, bonds_, table_.max_contact_radius(), skin_);
-  // The forces of step 0 came from the constructor and travelled with the nodes.
+  // The forces of this step travelled with the nodes; the centre damping's slot forces (the wall reactions
+  // read them) are recomputed from the same state, as a restart does: the same bits.
+  if (settings_.damping == PdDamping::grain_centres) pd_centre_slot_forces(table_, nodes_, grains_, list_, work_);
 }
 
 void PeridemSimulation::refresh_ghosts() {
@@ -133,11 +171,15 @@ void PeridemSimulation::rebuild_distributed() {
     double shortest = std::numeric_limits<double>::infinity();
     for (int c = 0; c < decomposition_.grid()[a]; ++c)
       shortest = std::min(shortest, decomposition_.cut(box_, a, c + 1) - decomposition_.cut(box_, a, c));
-    if (2 * width > shortest * (1 + 1e-12))
+    if (2 * width > shortest * (1 + 1e-12)) {
+      const auto most = comm::Decomposition::largest_counts(box_, width);
       throw input_error("run.ranks", decomposition_.describe(),
                         "at step " + std::to_string(step_) + " a grain reaches " + format_value(width) +
                             " m with its contact reach, more than half of a subdomain (" + format_value(shortest) +
-                            " m along " + std::string(1, "xyz"[a]) + "): run on fewer ranks");
+                            " m along " + std::string(1, "xyz"[a]) + "): run on fewer ranks (this box takes " +
+                            std::to_string(most[0]) + " x " + std::to_string(most[1]) + " x " +
+                            std::to_string(most[2]) + " at this reach)");
+    }
   }
   halo_.borders(decomposition_, box_, width, store);
   timer.reset();

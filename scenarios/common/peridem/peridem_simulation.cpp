@@ -82,6 +82,7 @@ PeridemSimulation::PeridemSimulation(PdNodes nodes, PdGrains grains, std::vector
       nodes_.mass[i] = materials_[static_cast<std::size_t>(mat)].density * nodes_.volume[i];
     }
   }
+  set_placed_box();
   mesh_size_ = pd_mesh_size(nodes_, grains_);
   if (!std::isfinite(mesh_size_))
     throw input_error("grains", "(single nodes)", "every grain and wall needs at least two nodes (eq 35)");
@@ -299,18 +300,19 @@ void PeridemSimulation::refresh_damage(double* broken_fraction) {
   }
 }
 
-std::string PeridemSimulation::explosion_check() const {
+std::string PeridemSimulation::local_explosion_check(std::int64_t* node_id) const {
   nodes_to_host();  // (the grains' kinds are constant: always current on the host)
   const double reach = table_.max_contact_radius();
   const double dt = settings_.time_step;
   for (std::size_t i = 0; i < nodes_.size(); ++i) {
-    if (!is_particle(grains_, nodes_.grain[i])) continue;
+    if (!is_particle(grains_, nodes_.grain[i]) || !owns_node(i)) continue;
     const double v = std::sqrt(nodes_.vx[i] * nodes_.vx[i] + nodes_.vy[i] * nodes_.vy[i] + nodes_.vz[i] * nodes_.vz[i]);
     if (v * dt > reach) {
       std::ostringstream os;
-      os << "step " << step_ << ": node " << nodes_.id[i] << " (grain " << nodes_.grain[i] << ") moves " << v * dt
+      os << "step " << step_ << ": node " << nodes_.id[i] << " (grain " << grains_.id[static_cast<std::size_t>(nodes_.grain[i])] << ") moves " << v * dt
          << " m in one step at speed " << v << " m/s, more than the contact radius " << reach
          << " m: the run has blown up (is the time step above the stable " << stable_dt_ << " s?)";
+      *node_id = nodes_.id[i];
       return os.str();
     }
   }
@@ -454,7 +456,14 @@ void PeridemSimulation::set_global_damping(double c) {
 }
 
 void PeridemSimulation::recompute_forces() {
-  rebuild_contacts();
+  if (distributed_) {
+    // A stage moved walls or set velocities on their owners: the ghosts learn it, then the list is built
+    // as one process builds it here (walls that crossed a cut move to their new owner).
+    refresh_ghosts();
+    rebuild_distributed();
+  } else {
+    rebuild_contacts();
+  }
   compute_forces();
 }
 
@@ -519,12 +528,14 @@ double PeridemSimulation::deepest_penetration() const {
   return pd_deepest_penetration(table_, nodes_, grains_, list_);
 }
 
-std::string PeridemSimulation::penetration_check(double limit) const {
+std::string PeridemSimulation::local_penetration_check(double limit, std::int64_t* node_id) const {
   // The reduction first (on the device in offload builds); the pair is looked for only when one is too deep.
   if (!(deepest_penetration() > limit)) return {};
   std::string problem;
   for_each_listed_pair([&](int i, int j, double dist, double rc) {
-    const int gi = nodes_.grain[i], gj = nodes_.grain[j];
+    if (!owns_node(static_cast<std::size_t>(i))) return true;  // the pair is in its owner's row (ids order alike)
+    const int gi = grains_.id[static_cast<std::size_t>(nodes_.grain[i])],
+              gj = grains_.id[static_cast<std::size_t>(nodes_.grain[j])];
     // Self-contact inside a broken grain is not a pair of bodies.
     if (gj == gi || rc - dist <= limit * rc) return true;
     std::ostringstream os;
@@ -537,23 +548,26 @@ std::string PeridemSimulation::penetration_check(double limit) const {
                       : ": one body is passing through the other (a time step too large for the speeds, or a "
                         "stiffness too small for the load)");
     problem = os.str();
+    *node_id = nodes_.id[i];
     return false;
   });
   return problem;
 }
 
-std::string PeridemSimulation::health_check() const {
+std::string PeridemSimulation::local_health_check(std::int64_t* node_id) const {
   nodes_to_host();
   for (std::size_t i = 0; i < nodes_.size(); ++i) {
+    if (!owns_node(i)) continue;  // a ghost's values are its owner's, checked there
     const double v[9] = {nodes_.x[i], nodes_.y[i], nodes_.z[i], nodes_.vx[i], nodes_.vy[i],
                          nodes_.vz[i], nodes_.fx[i], nodes_.fy[i], nodes_.fz[i]};
     for (double c : v)
       if (!std::isfinite(c)) {
         std::ostringstream os;
-        os << "step " << step_ << ": node " << nodes_.id[i] << " (grain " << nodes_.grain[i]
+        os << "step " << step_ << ": node " << nodes_.id[i] << " (grain " << grains_.id[static_cast<std::size_t>(nodes_.grain[i])]
            << ") has a non-finite position, velocity or force: position (" << nodes_.x[i] << ", " << nodes_.y[i]
            << ", " << nodes_.z[i] << "), velocity (" << nodes_.vx[i] << ", " << nodes_.vy[i] << ", "
            << nodes_.vz[i] << ")";
+        *node_id = nodes_.id[i];
         return os.str();
       }
   }

@@ -27,6 +27,7 @@
 #include "core/comm/decomposition.hpp"
 #include "core/comm/pd_halo.hpp"
 #include "core/exec.hpp"
+#include "core/io/node_trajectory_writer.hpp"
 #include "core/pd_contact_list.hpp"
 #include "core/pd_nodes.hpp"
 #include "core/vec3.hpp"
@@ -70,6 +71,14 @@ struct PeridemPassTimes {
   long grains_migrated = 0;
 };
 
+/// One particle grain at one instant (output rows): its centre and mean velocity (volume-weighted), the
+/// kinetic energy of its nodes, its largest damage Z (eq 14) and its broken bonds (each counted once).
+struct PdGrainState {
+  Vec3 centre, velocity;
+  double kinetic_energy = 0, damage = 0;
+  long broken_bonds = 0;
+};
+
 /// Sums over the system at one instant.
 struct PeridemDiagnostics {
   double kinetic_energy = 0;  // 1/2 m v^2 over particle nodes (v half a step behind x)
@@ -102,8 +111,9 @@ class PeridemSimulation {
   /// nodes of other ranks' grains within reach (core/comm/pd_halo). Every owned node's position, velocity
   /// and force are then the bits one process computes (peridem_ranks.cpp says how). `rank_grid`: Px, Py, Pz,
   /// or zeros for the grid with the least surface. InputError ("run.ranks") when the ranks cannot share the
-  /// grains: a grain wider than a subdomain allows. Walls and centre-node damping are refused until they
-  /// are cut among ranks (issue 27).
+  /// grains: a grain wider than a subdomain allows. The cut is made as at the contact list's last build
+  /// (by the positions then), so a system restored from a checkpoint of any rank count continues with the
+  /// list, and the bits, it had. Centre-node damping is refused until it is cut among ranks.
   void distribute(std::array<int, 3> rank_grid = {0, 0, 0});
   bool distributed() const { return distributed_; }
   /// Per node held: 1 for this rank's own nodes, 0 for ghost copies (empty: one process, every node its own).
@@ -141,8 +151,20 @@ class PeridemSimulation {
     pairs_to_host();
     return list_;
   }
-  /// Nodes in the system (no transfer: the runner asks every step).
-  std::size_t node_count() const { return nodes_.size(); }
+  /// Nodes in the whole system, on every rank (no transfer: the runner asks every step).
+  std::size_t node_count() const { return distributed_ ? node_total_ : nodes_.size(); }
+  /// The kind of every grain and wall of the whole system (PdGrainKind), by its index there.
+  std::vector<int> grain_kinds() const;
+  /// Every particle grain of the whole system by its index there (walls left at zero), on every rank:
+  /// collective in a run cut among ranks, where each grain's owner computes it as one process does. Reads
+  /// the damage of the last diagnostics() or refresh_damage(); refreshes the grain centres.
+  std::vector<PdGrainState> grain_states();
+  /// The least (max = false) or greatest coordinate along `axis` of the nodes of wall g (a whole-system
+  /// index), on every rank (collective in a run cut among ranks): where a stage places a wall from.
+  double wall_edge(int g, int axis, bool max) const;
+  /// This process's rows of a node frame (core/io/node_trajectory_writer.hpp): its own nodes, each at the
+  /// row its id has among all ids, the row one process writes it in.
+  NodeFrameShare frame_share() const;
   const PdContactTable& contact_table() const { return table_; }
   const std::vector<PdMaterial>& materials() const { return materials_; }
   const PeridemSettings& settings() const { return settings_; }
@@ -170,6 +192,8 @@ class PeridemSimulation {
   /// ranks).
   long touching_pairs() const;
   /// Empty when every position, velocity and force is finite; otherwise names the step and the node.
+  /// This and the two checks below are collective in a run cut among ranks: every rank returns the message
+  /// one process gives (the problem at the node of lowest id).
   std::string health_check() const;
 
   /// Sets every node of grain g to velocity v (initial conditions; before the first step).
@@ -219,6 +243,8 @@ class PeridemSimulation {
 
   /// Checkpoint (HDF5, scenarios/common/peridem/peridem_checkpoint.cpp): everything needed to continue bit for bit on
   /// the host, plus `input_echo` (the input file's text). Written to path.tmp, then renamed over `path`.
+  /// A run cut among ranks gathers the whole system on rank 0, which writes the one-process file
+  /// (collective): a restart reads it on any rank count.
   void write_checkpoint(const std::string& path, const std::string& input_echo) const;
   /// The simulation as it was when the checkpoint was written; `input_echo` receives the input's text.
   /// InputError ("restart") for a missing file or one of another format version.
@@ -229,6 +255,12 @@ class PeridemSimulation {
   explicit PeridemSimulation(Restored) {}
   /// from_checkpoint() once the file is known to be a checkpoint of a format this version reads.
   static PeridemSimulation restore(const h5::File& f, std::string* input_echo);
+  /// The file of write_checkpoint() from these nodes, grains, bonds and the list's build positions (this
+  /// object's or the whole system's gathered on rank 0) and this object's settings and counters.
+  void write_checkpoint_of(const std::string& path, const std::string& input_echo, const PdNodes& nodes,
+                           const PdGrains& grains, const BondList& bonds, const std::vector<double> at_build[3],
+                           long broken_total) const;
+  void write_distributed_checkpoint(const std::string& path, const std::string& input_echo) const;
   void compute_forces();
   void rebuild_contacts();
   // A run cut among ranks (peridem_ranks.cpp): the list build that migrates grains and lays the ghosts, the
@@ -238,6 +270,14 @@ class PeridemSimulation {
   void share_row_counts();
   double ghost_width() const;
   bool owns_node(std::size_t i) const { return !distributed_ || halo_.owned_nodes()[i]; }
+  bool owns_grain(std::size_t g) const { return !distributed_ || halo_.owned_grains()[g]; }
+  /// The index in the whole system of the node with this id (its rank among all ids).
+  std::int64_t whole_index(std::int64_t id) const;
+  // The checks above on this rank's own nodes (and pairs by their node of lower id): the first problem
+  // in id order, and the id of its node.
+  std::string local_health_check(std::int64_t* node_id) const;
+  std::string local_explosion_check(std::int64_t* node_id) const;
+  std::string local_penetration_check(double limit, std::int64_t* node_id) const;
   // Residency (offload builds; no-ops in host builds). *_stale_: kernels changed the device copies since the
   // host's were refreshed; *_edited_: the host copies were changed, the device's are not current (the host
   // edits nodes and grains only: bonds and the contact list are the kernels').
@@ -295,8 +335,16 @@ class PeridemSimulation {
   // the ghost layer.
   bool distributed_ = false;
   int grain_count_ = 0;  // grains and walls of the whole system
+  std::size_t node_total_ = 0;  // nodes of the whole system
+  std::vector<int> whole_kinds_;  // PdGrainKind of every grain and wall of the whole system
+  // The ids of the whole system's nodes in increasing order, kept only where they are not 0, 1, 2, ...
+  std::vector<std::int64_t> whole_ids_;
   comm::Decomposition decomposition_;
   Box box_;
+  // The nodes' bounding box as placed (kept in checkpoints): the box a run is cut in on any rank count, so a
+  // restart on P ranks is cut as a fresh run on P ranks is, however the walls have moved since.
+  Vec3 placed_lo_, placed_hi_;
+  void set_placed_box();
   comm::PdHalo halo_;
 };
 
