@@ -7,6 +7,8 @@
 // written; a run whose state turns non-finite or explodes stops with exit 3 and a message naming the step
 // and the node, and keeps the last good checkpoint. The run loop, stages included, is the shared runner's
 // (scenarios/common/run/runner.hpp); what a PeriDEM run writes and checks is scenarios/common/peridem/peridem_run.
+// Under mpirun (an MPI build) the grains are cut among the ranks (peridem_ranks.cpp) and every file is the
+// one a single process writes.
 #include "scenarios/common/peridem/peridem_run.hpp"
 
 int main(int argc, char** argv) {
@@ -14,5 +16,5 @@ int main(int argc, char** argv) {
       argc, argv, "debris_peridem",
       "debris_peridem: PeriDEM (peridynamic grains with DEM contact, paper B) on host threads or a GPU",
       "./build/bin/debris_peridem -i scenarios/peridem/two_particle.yaml -o out/peridem_two_particle",
-      debris::prepare_peridem_run);
+      debris::prepare_peridem_run, /*runs_on_ranks=*/true);
 }

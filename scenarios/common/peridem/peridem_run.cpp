@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include "core/comm/communicator.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/io/input.hpp"
@@ -20,52 +21,38 @@ namespace {
 constexpr std::size_t kGlobalColumns = 8;
 constexpr std::size_t kTerminalColumns = 24;  // the terminal shows every column up to this many
 
-bool is_wall(const PdGrains& g, std::size_t k) { return g.kind[k] == static_cast<int>(PdGrainKind::wall); }
-
-std::size_t particle_grains(const PdGrains& g) {
-  std::size_t n = 0;
-  for (std::size_t k = 0; k < g.size(); ++k) n += is_wall(g, k) ? 0 : 1;
-  return n;
-}
+bool is_wall(const std::vector<int>& kinds, std::size_t k) { return kinds[k] == static_cast<int>(PdGrainKind::wall); }
 
 bool grain_columns(const PeridemSimulation& sim, const PeridemOutputSettings& out) {
-  return particle_grains(sim.grains()) <= static_cast<std::size_t>(out.grain_columns);
+  const std::vector<int> kinds = sim.grain_kinds();
+  std::size_t particles = 0;
+  for (std::size_t k = 0; k < kinds.size(); ++k) particles += is_wall(kinds, k) ? 0 : 1;
+  return particles <= static_cast<std::size_t>(out.grain_columns);
 }
 
 std::vector<std::string> peridem_thermo_columns(const PeridemSimulation& sim, int dimension, bool per_grain) {
   std::vector<std::string> c{"step",           "time",       "kinetic_energy", "bond_energy",
                              "contact_energy", "max_damage", "broken_bonds",   "contact_pairs"};
-  const PdGrains& g = sim.grains();
+  const std::vector<int> kinds = sim.grain_kinds();
   const std::vector<std::string>& names = sim.grain_names();
   const std::vector<const char*> force =
       dimension == 2 ? std::vector<const char*>{"fx", "fy"} : std::vector<const char*>{"fx", "fy", "fz"};
-  for (std::size_t k = 0; k < g.size(); ++k)
-    if (is_wall(g, k))
+  for (std::size_t k = 0; k < kinds.size(); ++k)
+    if (is_wall(kinds, k))
       for (const char* q : force) c.push_back(names[k] + "_" + q);
   if (!per_grain) return c;
   const std::vector<const char*> q =
       dimension == 2
           ? std::vector<const char*>{"x", "y", "vx", "vy", "kinetic_energy", "damage", "broken_bonds"}
           : std::vector<const char*>{"x", "y", "z", "vx", "vy", "vz", "kinetic_energy", "damage", "broken_bonds"};
-  for (std::size_t k = 0; k < g.size(); ++k)
-    if (!is_wall(g, k))
+  for (std::size_t k = 0; k < kinds.size(); ++k)
+    if (!is_wall(kinds, k))
       for (const char* s : q) c.push_back(names[k] + "_" + s);
   return c;
 }
 
-/// Bonds of grain g that are broken (each bond counted once: the list holds it from both ends).
-long grain_broken_bonds(const PeridemSimulation& sim, std::size_t g) {
-  const BondList& b = sim.bonds();
-  long entries = 0;
-  for (int i = sim.grains().node_begin[g]; i < sim.grains().node_end[g]; ++i)
-    for (int k = b.offset[static_cast<std::size_t>(i)]; k < b.offset[static_cast<std::size_t>(i) + 1]; ++k)
-      entries += b.broken[static_cast<std::size_t>(k)] ? 1 : 0;
-  return entries / 2;
-}
-
-/// Needs diagnostics() of this step first (damage, grain centres).
+/// Needs diagnostics() of this step first (damage). Collective in a run cut among ranks.
 std::vector<double> peridem_thermo_row(PeridemSimulation& sim, const PeridemDiagnostics& d, int dimension, bool per_grain) {
-  const PeridemSimulation& view = sim;  // reads: not edits (offload builds: no transfer back to the device)
   std::vector<double> row{static_cast<double>(sim.step_count()),
                           sim.time(),
                           d.kinetic_energy,
@@ -74,32 +61,26 @@ std::vector<double> peridem_thermo_row(PeridemSimulation& sim, const PeridemDiag
                           d.max_damage,
                           static_cast<double>(d.broken_bonds),
                           static_cast<double>(d.contact_pairs)};
-  const PdGrains& g = view.grains();
+  const std::vector<int> kinds = sim.grain_kinds();
   const std::vector<Vec3> reaction = sim.wall_reactions();
-  for (std::size_t k = 0; k < g.size(); ++k)
-    if (is_wall(g, k)) {
+  for (std::size_t k = 0; k < kinds.size(); ++k)
+    if (is_wall(kinds, k)) {
       row.push_back(reaction[k].x);
       row.push_back(reaction[k].y);
       if (dimension == 3) row.push_back(reaction[k].z);
     }
   if (!per_grain) return row;
-  sim.refresh_grain_centres();
-  view.grains();  // the centres just refreshed, brought back to the host (offload builds; g is that copy)
-  const PdNodes& n = view.nodes();
-  for (std::size_t k = 0; k < g.size(); ++k) {
-    if (is_wall(g, k)) continue;
-    double damage = 0, kinetic = 0;
-    for (int i = g.node_begin[k]; i < g.node_end[k]; ++i) {
-      damage = std::max(damage, n.damage[i]);
-      kinetic += 0.5 * n.mass[i] * (n.vx[i] * n.vx[i] + n.vy[i] * n.vy[i] + n.vz[i] * n.vz[i]);
-    }
+  const std::vector<PdGrainState> grains = sim.grain_states();
+  for (std::size_t k = 0; k < kinds.size(); ++k) {
+    if (is_wall(kinds, k)) continue;
+    const PdGrainState& s = grains[k];
     const std::vector<double> centre =
-        dimension == 2 ? std::vector<double>{g.cx[k], g.cy[k], g.cvx[k], g.cvy[k]}
-                       : std::vector<double>{g.cx[k], g.cy[k], g.cz[k], g.cvx[k], g.cvy[k], g.cvz[k]};
+        dimension == 2 ? std::vector<double>{s.centre.x, s.centre.y, s.velocity.x, s.velocity.y}
+                       : std::vector<double>{s.centre.x, s.centre.y, s.centre.z, s.velocity.x, s.velocity.y, s.velocity.z};
     row.insert(row.end(), centre.begin(), centre.end());
-    row.push_back(kinetic);
-    row.push_back(damage);
-    row.push_back(static_cast<double>(grain_broken_bonds(sim, k)));
+    row.push_back(s.kinetic_energy);
+    row.push_back(s.damage);
+    row.push_back(static_cast<double>(s.broken_bonds));
   }
   return row;
 }
@@ -133,8 +114,9 @@ class PeridemRunModel final : public RunModel {
     terminal_ = n;
     if (terminal_ > kTerminalColumns) {
       terminal_ = kGlobalColumns;
-      for (std::size_t k = 0; k < view().grains().size(); ++k)
-        if (is_wall(view().grains(), k)) terminal_ += cfg_.dimension == 2 ? 2 : 3;
+      const std::vector<int> kinds = sim_.grain_kinds();
+      for (std::size_t k = 0; k < kinds.size(); ++k)
+        if (is_wall(kinds, k)) terminal_ += cfg_.dimension == 2 ? 2 : 3;
     }
     // Every wall a stage names must be a wall of this system (a restart's system comes from its checkpoint).
     for (const PeridemStageChanges& c : cfg_.stage_changes)
@@ -144,7 +126,7 @@ class PeridemRunModel final : public RunModel {
   long step_count() const override { return sim_.step_count(); }
   double time() const override { return sim_.time(); }
   void step() override { sim_.step(); }
-  std::size_t items() const override { return sim_.node_count(); }  // every step: no transfer
+  std::size_t items() const override { return sim_.node_count(); }  // every step: no transfer or message
   const char* item_name() const override { return "node"; }
 
   std::string setup_key() const override { return "grains"; }
@@ -167,16 +149,20 @@ class PeridemRunModel final : public RunModel {
     peridem_print_thermo(cols, row, terminal_, header);
   }
 
+  // Cut among ranks, every rank writes its own nodes' rows of the trajectory (one file, collective).
   void open_frames(const std::string& dir, const std::string& suffix) override {
-    trajectory_.emplace(dir, "trajectory" + suffix, view().nodes(), view().grains(), sim_.grain_names());
-    broken_fraction_.assign(sim_.node_count(), 0.0);
+    const PdGrains& g = view().grains();
+    trajectory_.emplace(dir, "trajectory" + suffix, view().nodes(), sim_.frame_share(),
+                        std::vector<int>(g.id.begin(), g.id.end()), sim_.grain_kinds(), sim_.grain_names(),
+                        sim_.distributed());
   }
   bool frame_due(long step) const override {
     return cfg_.output.trajectory_every > 0 && step % cfg_.output.trajectory_every == 0;
   }
   void write_frame(bool) override {
+    broken_fraction_.assign(view().nodes().size(), 0.0);  // the nodes held (grains move between ranks)
     sim_.refresh_damage(broken_fraction_.data());
-    trajectory_->write_frame(sim_.step_count(), sim_.time(), view().nodes(), broken_fraction_);
+    trajectory_->write_frame(sim_.step_count(), sim_.time(), view().nodes(), sim_.frame_share(), broken_fraction_);
   }
   std::string frame_files(const std::string& suffix) const override { return "trajectory" + suffix + ".xmf + .h5"; }
   void write_checkpoint(const std::string& path, const std::string& input) const override {
@@ -199,16 +185,9 @@ class PeridemRunModel final : public RunModel {
       const int g = wall_index(w);
       Vec3 d{};
       if (w.move_by) d = *w.move_by;
-      if (w.place_axis >= 0) {
-        const PdNodes& n = view().nodes();
-        const auto& coord = w.place_axis == 0 ? n.x : (w.place_axis == 1 ? n.y : n.z);
-        const std::size_t gk = static_cast<std::size_t>(g);
-        double edge = coord[static_cast<std::size_t>(view().grains().node_begin[gk])];
-        for (int i = view().grains().node_begin[gk]; i < view().grains().node_end[gk]; ++i)
-          edge = w.place_max ? std::max(edge, coord[static_cast<std::size_t>(i)])
-                             : std::min(edge, coord[static_cast<std::size_t>(i)]);
-        (w.place_axis == 0 ? d.x : (w.place_axis == 1 ? d.y : d.z)) = w.place_at - edge;
-      }
+      if (w.place_axis >= 0)
+        (w.place_axis == 0 ? d.x : (w.place_axis == 1 ? d.y : d.z)) =
+            w.place_at - view().wall_edge(g, w.place_axis, w.place_max);
       if (w.move_by || w.place_axis >= 0) {
         sim_.move_wall(g, d);
         os << "wall " << w.name << " moved by (" << d.x << ", " << d.y << ", " << d.z << ") m; ";
@@ -230,11 +209,19 @@ class PeridemRunModel final : public RunModel {
     builds << "(" << t.rebuilds << " contact list builds in all";
     if (t.self_contact_updates > 0) builds << ", " << t.self_contact_updates << " updates for broken bonds";
     builds << ")";
-    return {{"integration", t.integration, ""},
-            {"neighbours", t.neighbours, builds.str()},
-            {"bonds", t.bonds, ""},
-            {"contact", t.contact, ""},
-            {"other", t.other, "(zero forces, gravity)"}};
+    std::vector<PassTime> rows{{"integration", t.integration, ""},
+                               {"neighbours", t.neighbours, builds.str()},
+                               {"bonds", t.bonds, ""},
+                               {"contact", t.contact, ""},
+                               {"other", t.other, "(zero forces, gravity)"}};
+    if (sim_.distributed()) {
+      std::ostringstream note;
+      note << "(" << sim_.decomposition().describe() << "; rank 0's halo " << sim_.halo_bytes_per_step()
+           << " B per step to " << sim_.ghost_nodes() << " ghost nodes, " << t.grains_migrated
+           << " grains migrated from rank 0)";
+      rows.push_back({"comm", t.comm, note.str()});
+    }
+    return rows;
   }
 
  private:
@@ -243,8 +230,9 @@ class PeridemRunModel final : public RunModel {
   const PeridemSimulation& view() const { return sim_; }
   int wall_index(const PeridemStageChanges::WallChange& w) const {
     const std::vector<std::string>& names = sim_.grain_names();
+    const std::vector<int> kinds = sim_.grain_kinds();
     for (std::size_t k = 0; k < names.size(); ++k)
-      if (names[k] == w.name && is_wall(sim_.grains(), k)) return static_cast<int>(k);
+      if (names[k] == w.name && is_wall(kinds, k)) return static_cast<int>(k);
     throw input_error(w.key + ".name", w.name, "is not a wall of this system");
   }
 
@@ -293,6 +281,12 @@ RunPlan prepare_peridem_run(const RunOptions& opt) {
   }
   PeridemSimulation& sim = restored ? *restored : *built;
   std::cout << sim.summary() << "\n";
+  // Under mpirun: the system cut among the ranks, as at its last list build (a restart's, too: checkpoints
+  // hold the whole system, from any rank count).
+  if (comm::size() > 1) {
+    sim.distribute();
+    std::cout << "cut among ranks: " << sim.decomposition().describe() << "\n";
+  }
   RunPlan plan = make_run_plan(cfg, sim.dt(), restored.has_value(), threads, in.text);
   plan.model = std::make_unique<PeridemRunModel>(std::move(sim), std::move(cfg));
   return plan;

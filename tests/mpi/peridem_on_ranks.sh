@@ -1,0 +1,128 @@
+#!/usr/bin/env bash
+# debris_peridem cut among MPI ranks writes what one process writes (issue 27): thermo.csv byte for byte, the
+# HDF5 node trajectory and the final checkpoint dataset for dataset (h5diff, from hdf5-tools), on
+#  - compression_small.yaml (five grains in a box of four walls under gravity: a settle with a global
+#    damping, then the lid placed and pressed down until the grains split; walls crossing every cut, placed
+#    and moving) on 1 to 4 ranks;
+#  - compressive_small.yaml (15 grains of 8 shapes, concave ones among them, in a container closed by a
+#    moving lid) on 1 to 4 ranks;
+#  - a two-grain impact that breaks bonds (fracture_m1.yaml with the top grain 1 mm higher, so that the pair
+#    can be cut in two) on 1 and 2 ranks, and on 3 the named error of a grain too large for the ranks;
+#  - eight spheres in 3D over a rising floor (peridem_spheres_3d.yaml) on 1 to 4 ranks;
+#  - 1,000 steps of the 502-grain deck (compressive_n500.yaml, 62,994 nodes) on 1 to 4 ranks.
+# Checkpoints continue across rank counts: one written on 4 ranks continues on 2, one written on 1 on 3, to
+# the same thermo.csv and final checkpoint. Bad input on 3 ranks: one message, exit 2, nothing written. A run
+# that blows up: the same health-check stop on 1 and 3 ranks. About 2 minutes on 2 cores.
+#   peridem_on_ranks.sh <mpirun> <debris_peridem> <source dir> <work dir>
+set -euo pipefail
+mpirun=$1 peridem=$2 src=$3 work=$4
+decks=$src/scenarios/peridem
+rm -rf "$work" && mkdir -p "$work" && cd "$work"
+export OMP_NUM_THREADS=1 OMP_WAIT_POLICY=passive
+run() {  # run <ranks> <debris_peridem arguments...>
+  local np=$1
+  shift
+  "$mpirun" -np "$np" --oversubscribe --allow-run-as-root --mca mpi_yield_when_idle 1 "$peridem" "$@"
+}
+failed=0
+same() {  # same <file a> <file b> <what>
+  if cmp -s "$1" "$2"; then echo "same: $3"; else echo "DIFFERS: $3 ($1, $2)"; failed=1; fi
+}
+same_h5() {  # same_h5 <file a> <file b> <what>: HDF5 files carry their write times, so every dataset instead
+  if h5diff "$1" "$2" > /dev/null; then echo "same: $3 (h5diff)"; else echo "DIFFERS: $3 ($1, $2)"; failed=1; fi
+}
+check() {  # check <deck> <what> <rank counts...>: the one-process files again on each count
+  local deck=$1 what=$2
+  shift 2
+  run 1 -i "$deck.yaml" -o "$deck.1" > "$deck.1.log"
+  for np in "$@"; do
+    run "$np" -i "$deck.yaml" -o "$deck.$np" > "$deck.$np.log"
+    same "$deck.1/thermo.csv" "$deck.$np/thermo.csv" "$what: thermo.csv on $np ranks"
+    same_h5 "$deck.1/trajectory.h5" "$deck.$np/trajectory.h5" "$what: trajectory.h5 on $np ranks"
+    same_h5 "$deck.1/checkpoint.h5" "$deck.$np/checkpoint.h5" "$what: checkpoint.h5 on $np ranks"
+    grep -q "^comm " "$deck.$np.log" || { echo "$what: no comm row in the pass table on $np ranks"; failed=1; }
+  done
+}
+edit() {  # edit <input> <output> <sed expressions...>: each must change the file (else the deck changed)
+  local in=$1 out=$2
+  shift 2
+  cp "$in" "$out"
+  for e in "$@"; do
+    cp "$out" "$out.before"
+    sed -i -e "$e" "$out"
+    cmp -s "$out" "$out.before" && { echo "$in changed ('$e' no longer applies): update $0"; exit 1; }
+  done
+  rm -f "$out.before"
+}
+
+# compression_small: thermo every 100 steps, frames every 3,000, checkpoints every 6,000 (18,000 steps), and
+# a global damping in the settle that the press ends.
+edit "$decks/compression_small.yaml" compression.yaml \
+  's|trajectory_every: 1000|trajectory_every: 3000\n  checkpoint_every: 6000|' \
+  's|{name: settle, duration: 0.2 ms}|{name: settle, duration: 0.2 ms, global_damping: 500 s^-1}|' \
+  's|duration: 1.6 ms|duration: 1.6 ms\n    global_damping: 0 s^-1|'
+check compression "compression_small" 2 3 4
+grep -q "broken_bonds" compression.1/thermo.csv && [ "$(tail -1 compression.1/thermo.csv | cut -d, -f7)" -gt 0 ] ||
+  { echo "compression_small: no bond broke"; failed=1; }
+
+edit "$decks/compressive_small.yaml" compressive.yaml "s|file: data/|file: $decks/data/|"
+check compressive "compressive_small" 2 3 4
+
+# The two-grain impact: 4,500 steps, 64 bonds break.
+edit "$decks/fracture_m1.yaml" impact.yaml 's|centre: \[0, 3 mm, 0\]|centre: [0, 4 mm, 0]|' \
+  's|final_time: 0.6 ms|final_time: 0.9 ms|' 's|trajectory_every: 100|trajectory_every: 1500\n  checkpoint_every: 1500|'
+check impact "two-grain impact" 2
+[ "$(tail -1 impact.1/thermo.csv | cut -d, -f7)" -gt 0 ] || { echo "two-grain impact: no bond broke"; failed=1; }
+set +e
+run 3 -i impact.yaml -o impact.3 > impact.3.out 2> impact.3.err
+status=$?
+set -e
+[ "$status" = 2 ] || { echo "two grains on 3 ranks: exit $status, not 2"; failed=1; }
+grep -q "input error: 'run.ranks' = 3: .*(2 ranks in all)" impact.3.err ||
+  { echo "two grains on 3 ranks: no message naming run.ranks and 2 ranks"; cat impact.3.err; failed=1; }
+# (Only the meshes of the input's shapes, a cache the input's reading keeps in <output>/meshes.)
+[ ! -e impact.3/thermo.csv ] && [ ! -e impact.3/checkpoint.h5 ] || { echo "two grains on 3 ranks wrote run output"; failed=1; }
+
+# 3D: eight spheres collide over a rising floor (tests/mpi/peridem_spheres_3d.yaml).
+cp "$src/tests/mpi/peridem_spheres_3d.yaml" spheres.yaml
+check spheres "3D spheres" 2 3 4
+
+# 1,000 steps of the 502-grain deck, thermo every 100, frames every 500.
+edit "$decks/compressive_n500.yaml" n500.yaml "s|file: data/|file: $decks/data/|" 's|steps: 100$|steps: 1000|' \
+  's|thermo_every: 10 |thermo_every: 100 |' 's|trajectory_every: 100 |trajectory_every: 500 |'
+check n500 "502 grains" 2 3 4
+
+# Restarts across rank counts: 4 -> 2 and 1 -> 3, from step 9,000 of compression_small.
+edit compression.yaml half.yaml 's|^run:|run:\n  steps: 9000|'
+run 4 -i half.yaml -o from4 > from4.log
+run 2 -i compression.yaml --restart from4/checkpoint.h5 > to2.log
+run 1 -i half.yaml -o from1 > from1.log
+run 3 -i compression.yaml --restart from1/checkpoint.h5 > to3.log
+same compression.1/thermo.csv from4/thermo.csv "thermo.csv written on 4 ranks to step 9000, continued on 2"
+same_h5 compression.1/checkpoint.h5 from4/checkpoint.h5 "checkpoint.h5 written on 4 ranks to step 9000, continued on 2"
+same compression.1/thermo.csv from1/thermo.csv "thermo.csv written on 1 rank to step 9000, continued on 3"
+same_h5 compression.1/checkpoint.h5 from1/checkpoint.h5 "checkpoint.h5 written on 1 rank to step 9000, continued on 3"
+
+# Bad input: rank 0 alone says so, every rank exits 2, nothing is written.
+edit compression.yaml bad.yaml 's|bulk_modulus: 0.0216 GPa|bulk_modulus: -0.0216 GPa|'
+set +e
+run 3 -i bad.yaml -o bad > bad.out 2> bad.err
+status=$?
+set -e
+[ "$status" = 2 ] || { echo "bad input on 3 ranks: exit $status, not 2"; failed=1; }
+[ "$(grep -c "input error: .*bulk_modulus' = " bad.err)" = 1 ] || { echo "bad input: not one message"; cat bad.err; failed=1; }
+[ ! -e bad ] || { echo "bad input wrote bad/"; failed=1; }
+
+# A run that blows up (30 times the stable time step): the same health-check stop on 1 and 3 ranks, exit 3.
+edit compression.yaml unstable.yaml 's|time_step: 0.1 us|time_step: 5 us\n  allow_unstable_time_step: true|'
+for np in 1 3; do
+  set +e
+  run $np -i unstable.yaml -o unstable$np > unstable$np.out 2> unstable$np.err
+  status=$?
+  set -e
+  [ "$status" = 3 ] || { echo "unstable run on $np ranks: exit $status, not 3"; failed=1; }
+  grep "stopped: " unstable$np.err > unstable$np.stop || true
+  [ "$(wc -l < unstable$np.stop)" = 1 ] || { echo "unstable run on $np ranks: not one stop message"; cat unstable$np.err; failed=1; }
+done
+same unstable1.stop unstable3.stop "the health check's stop on 3 ranks"
+exit $failed
