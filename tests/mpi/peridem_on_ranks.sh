@@ -6,8 +6,9 @@
 #    and moving) on 1 to 4 ranks;
 #  - compressive_small.yaml (15 grains of 8 shapes, concave ones among them, in a container closed by a
 #    moving lid) on 1 to 4 ranks;
-#  - a two-grain impact that breaks bonds (fracture_m1.yaml with the top grain 1 mm higher, so that the pair
-#    can be cut in two) on 1 and 2 ranks, and on 3 the named error of a grain too large for the ranks;
+#  - a two-grain impact that breaks bonds (fracture_m1.yaml with the top grain 1 mm higher and a plate far
+#    below, so that the box can be cut in four) on 1 to 4 ranks, and without the plate on 3 ranks the named
+#    error of grains too large for the ranks;
 #  - eight spheres in 3D over a rising floor (peridem_spheres_3d.yaml) on 1 to 4 ranks;
 #  - 1,000 steps of the 502-grain deck (compressive_n500.yaml, 62,994 nodes) on 1 to 4 ranks.
 # Checkpoints continue across rank counts: one written on 4 ranks continues on 2, one written on 1 on 3, to
@@ -68,20 +69,25 @@ grep -q "broken_bonds" compression.1/thermo.csv && [ "$(tail -1 compression.1/th
 edit "$decks/compressive_small.yaml" compressive.yaml "s|file: data/|file: $decks/data/|"
 check compressive "compressive_small" 2 3 4
 
-# The two-grain impact: 4,500 steps, 64 bonds break.
-edit "$decks/fracture_m1.yaml" impact.yaml 's|centre: \[0, 3 mm, 0\]|centre: [0, 4 mm, 0]|' \
+# The two-grain impact: 4,500 steps. Its box takes 2 ranks along y; a plate far below (never reached) makes
+# it tall enough for 4, and then 82 bonds break (the plate's mesh sets h of eq 35, so R_c and K_n).
+edit "$decks/fracture_m1.yaml" pair.yaml 's|centre: \[0, 3 mm, 0\]|centre: [0, 4 mm, 0]|' \
   's|final_time: 0.6 ms|final_time: 0.9 ms|' 's|trajectory_every: 100|trajectory_every: 1500\n  checkpoint_every: 1500|'
-check impact "two-grain impact" 2
+edit pair.yaml impact.yaml \
+  's|^shapes:|shapes:\n  plate: {type: rectangle, lo: [-3 mm, -7.5 mm, 0], hi: [3 mm, -7 mm, 0], mesh_size: 0.2 mm}|' \
+  's|^contact:|walls:\n  - {name: plate, shape: plate, material: M1}\ncontact:|'
+check impact "two-grain impact" 2 3 4
 [ "$(tail -1 impact.1/thermo.csv | cut -d, -f7)" -gt 0 ] || { echo "two-grain impact: no bond broke"; failed=1; }
+# Without the plate, 3 ranks are too many: a named error, exit 2, no run output.
 set +e
-run 3 -i impact.yaml -o impact.3 > impact.3.out 2> impact.3.err
+run 3 -i pair.yaml -o pair.3 > pair.3.out 2> pair.3.err
 status=$?
 set -e
 [ "$status" = 2 ] || { echo "two grains on 3 ranks: exit $status, not 2"; failed=1; }
-grep -q "input error: 'run.ranks' = 3: .*(2 ranks in all)" impact.3.err ||
-  { echo "two grains on 3 ranks: no message naming run.ranks and 2 ranks"; cat impact.3.err; failed=1; }
+grep -q "input error: 'run.ranks' = 3: .*(2 ranks in all)" pair.3.err ||
+  { echo "two grains on 3 ranks: no message naming run.ranks and 2 ranks"; cat pair.3.err; failed=1; }
 # (Only the meshes of the input's shapes, a cache the input's reading keeps in <output>/meshes.)
-[ ! -e impact.3/thermo.csv ] && [ ! -e impact.3/checkpoint.h5 ] || { echo "two grains on 3 ranks wrote run output"; failed=1; }
+[ ! -e pair.3/thermo.csv ] && [ ! -e pair.3/checkpoint.h5 ] || { echo "two grains on 3 ranks wrote run output"; failed=1; }
 
 # 3D: eight spheres collide over a rising floor (tests/mpi/peridem_spheres_3d.yaml).
 cp "$src/tests/mpi/peridem_spheres_3d.yaml" spheres.yaml
