@@ -25,6 +25,14 @@ class OutputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A run that cannot go on, met alike by every rank of a run cut among MPI ranks (a decision they take
+/// together): each rank stops with exit 3, naming the last good checkpoint, and none ends the job for the
+/// others. (A grain grown too large for the ranks: the run continues from the checkpoint on fewer.)
+class RunStop : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 /// A number as an error message shows it: 12 significant digits, enough to tell values apart.
 inline std::string format_value(double v) {
   std::ostringstream os;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/comm/communicator.hpp"
+#include "core/error.hpp"
 #include "core/exec.hpp"
 #include "scenarios/common/peridem/peridem_simulation.hpp"
 #include "tests/mpi/rank_grids.hpp"
@@ -182,6 +183,35 @@ TEST(DistributedPeridem, NodePairDampingHasTheOneProcessBits) {
   // walls: against them the grains shatter (3,388 bonds) and reach farther past their subdomain than three
   // ranks along y allow.
   run_against_one_process(PdDamping::node_pairs, 4.0, 6.0, 3.0, 2.0, 2e-7, false, 1);
+}
+
+// A grain torn apart whose halves fly off far: its reach grows past half a subdomain, and every rank stops
+// at the same step with the same RunStop (the runner's exit 3, the run continuing on fewer ranks from its
+// checkpoint), none alone.
+TEST(DistributedPeridem, AGrainGrownTooLargeForTheRanksStopsEveryRankAlike) {
+  if (exec::offload_build()) GTEST_SKIP() << "a run cut among ranks runs on host threads so far";
+  if (comm::size() < 2) GTEST_SKIP() << "one rank holds every grain";
+  PeridemSimulation ranks = make_field(8, 5, 5, 0.0, 0.0, 100.0, 0.01, 5e-7, false, PdDamping::grain_centres);
+  ranks.distribute({comm::size(), 1, 1});
+  std::string stop;
+  long at = -1;
+  for (int s = 0; s < 2000 && stop.empty(); ++s) {
+    try {
+      ranks.step();
+    } catch (const RunStop& e) {
+      stop = e.what();
+      at = ranks.step_count();
+    }
+  }
+  ASSERT_FALSE(stop.empty()) << "the torn grain never outgrew the ranks";
+  EXPECT_NE(stop.find("'run.ranks'"), std::string::npos) << stop;
+  EXPECT_NE(stop.find("continue on fewer ranks"), std::string::npos) << stop;
+  EXPECT_EQ(comm::first_message(stop), stop) << "every rank says the same";
+  double first = static_cast<double>(at), last = first;
+  comm::allreduce_min(&first, 1);
+  comm::allreduce_max(&last, 1);
+  EXPECT_EQ(first, last) << "every rank stops at the same step";
+  if (comm::rank() == 0) std::printf("[ info ] stopped at step %ld: %s\n", at, stop.c_str());
 }
 
 }  // namespace

@@ -173,12 +173,13 @@ void PeridemSimulation::rebuild_distributed() {
       shortest = std::min(shortest, decomposition_.cut(box_, a, c + 1) - decomposition_.cut(box_, a, c));
     if (2 * width > shortest * (1 + 1e-12)) {
       const auto most = comm::Decomposition::largest_counts(box_, width);
-      throw input_error("run.ranks", decomposition_.describe(),
-                        "at step " + std::to_string(step_) + " a grain reaches " + format_value(width) +
-                            " m with its contact reach, more than half of a subdomain (" + format_value(shortest) +
-                            " m along " + std::string(1, "xyz"[a]) + "): run on fewer ranks (this box takes " +
-                            std::to_string(most[0]) + " x " + std::to_string(most[1]) + " x " +
-                            std::to_string(most[2]) + " at this reach)");
+      // Every rank finds it (the width is the largest over all): all stop alike, and the run continues from
+      // its last checkpoint on fewer ranks.
+      throw RunStop("'run.ranks' = " + decomposition_.describe() + ": a grain reaches " + format_value(width) +
+                    " m with its contact reach, more than half of a subdomain (" + format_value(shortest) +
+                    " m along " + std::string(1, "xyz"[a]) + "): continue on fewer ranks, or another grid (at this reach the box "
+                    "takes at most " + std::to_string(most[0]) + " along x, " + std::to_string(most[1]) + " along y and " +
+                    std::to_string(most[2]) + " along z)");
     }
   }
   halo_.borders(decomposition_, box_, width, store);

@@ -139,6 +139,8 @@ struct Run::State {
       return f();
     } catch (const InputError&) {
       throw;
+    } catch (const RunStop& e) {  // every rank meets it alike
+      return stop("at step " + std::to_string(model().step_count()) + ": " + e.what());
     } catch (const std::bad_alloc&) {
       return stopped_on_this_rank("out of memory at step " + std::to_string(model().step_count()));
     } catch (const std::exception& e) {
