@@ -1,8 +1,9 @@
 // Weak scaling of the PeriDEM step cut among ranks (issue 27), on demand (not in ctest):
-//   mpirun -np P build-mpi/bin/debris_mpi_pd_weak_scaling [--steps 200] [--input FILE]
+//   mpirun -np P build-mpi/bin/debris_mpi_pd_weak_scaling [--steps 200] [--input FILE] [--gap MM]
 // The 502-grain deck (scenarios/peridem/compressive_n500.yaml, or FILE) tiled P x 1 (bench/pd_tiles.hpp:
-// each tile its own grains, container and lid, 1 mm from the next), one tile per rank: the decomposition
-// cuts the box along x between the tiles. After 100 warm-up steps it times --steps steps of
+// each tile its own grains, container and lid, --gap mm from the next, 1 by default: beyond contact, so
+// no ghosts; 0.05 puts the neighbouring containers within the contact radius and the grains near them
+// within the ghost width), one tile per rank: the decomposition cuts the box along x between the tiles. After 100 warm-up steps it times --steps steps of
 // PeridemSimulation::step() on every rank together and reports, per rank (min / mean / max): owned and
 // ghost nodes, node-steps/s (owned nodes x steps / wall time), the comm share of the step (ghost exchanges,
 // the rebuild decision, migration and ghost layer at list builds) and the halo bytes sent per step; then the
@@ -33,19 +34,21 @@ int main(int argc, char** argv) {
   comm::Session session(&argc, &argv);
   long steps = 200;
   std::string input = std::string(DEBRIS_SOURCE_DIR) + "/scenarios/peridem/compressive_n500.yaml";
+  double gap_mm = 1.0;
   for (int a = 1; a + 1 < argc; a += 2) {
     const std::string key = argv[a];
     if (key == "--steps") steps = std::atol(argv[a + 1]);
     else if (key == "--input") input = argv[a + 1];
+    else if (key == "--gap") gap_mm = std::atof(argv[a + 1]);
     else {
-      if (comm::rank() == 0) std::fprintf(stderr, "unknown option %s (--steps N, --input FILE)\n", key.c_str());
+      if (comm::rank() == 0) std::fprintf(stderr, "unknown option %s (--steps N, --input FILE, --gap MM)\n", key.c_str());
       return 2;
     }
   }
   exec::set_threads(1);
   const int ranks = comm::size();
   PeridemRunConfig cfg = read_peridem_input(input);
-  tile_pd_system(cfg, ranks, 1);
+  tile_pd_system(cfg, ranks, 1, gap_mm * 1e-3);
   PeridemSimulation sim(std::move(cfg.nodes), std::move(cfg.grains), cfg.materials, cfg.contact, cfg.settings);
   const std::size_t total_nodes = sim.node_count();
   sim.distribute();
@@ -63,9 +66,9 @@ int main(int argc, char** argv) {
   for (const unsigned char o : sim.owned_nodes()) owned += o;
   const double comm_seconds = after.comm - before.comm;
   if (comm::rank() == 0) {
-    std::printf("PeriDEM weak scaling: %d rank(s) (%s), one tile of %s each, %zu nodes in all; %ld steps, %ld list "
-                "builds\n",
-                ranks, sim.decomposition().describe().c_str(), input.c_str(), total_nodes, steps,
+    std::printf("PeriDEM weak scaling: %d rank(s) (%s), one tile of %s each, %g mm apart, %zu nodes in all; %ld "
+                "steps, %ld list builds\n",
+                ranks, sim.decomposition().describe().c_str(), input.c_str(), gap_mm, total_nodes, steps,
                 sim.contact_rebuilds() - rebuilds_before);
     std::printf("  %-34s %12s %12s %12s\n", "per rank", "min", "mean", "max");
   }

@@ -10,11 +10,12 @@
 namespace debris {
 
 /// The system tiles_x x tiles_y times side by side in the x-y plane: tile t is the input's system shifted by
-/// whole multiples of its extent plus 1 mm (far beyond the contact cutoff, so tiles never touch), the
-/// walls' motion repeated. Grain order as the reader makes it: the particle grains of every tile, then the
+/// whole multiples of its extent plus `gap` (1 mm: far beyond the contact cutoff, so tiles never touch; a
+/// gap inside the contact radius puts neighbouring tiles' walls within reach of each other), the walls'
+/// motion repeated. Grain order as the reader makes it: the particle grains of every tile, then the
 /// walls of every tile; node ids renumbered in that order (from 0), grain after grain, as one process
 /// stores an input's nodes (a run cut among ranks relies on it).
-inline void tile_pd_system(PeridemRunConfig& cfg, int tiles_x, int tiles_y) {
+inline void tile_pd_system(PeridemRunConfig& cfg, int tiles_x, int tiles_y, double gap = 1e-3) {
   if (tiles_x * tiles_y == 1) return;
   const PdNodes in = cfg.nodes;
   const PdGrains g = cfg.grains;
@@ -23,7 +24,7 @@ inline void tile_pd_system(PeridemRunConfig& cfg, int tiles_x, int tiles_y) {
     lo.x = std::min(lo.x, in.x[i]), lo.y = std::min(lo.y, in.y[i]);
     hi.x = std::max(hi.x, in.x[i]), hi.y = std::max(hi.y, in.y[i]);
   }
-  const double pitch_x = hi.x - lo.x + 1e-3, pitch_y = hi.y - lo.y + 1e-3;
+  const double pitch_x = hi.x - lo.x + gap, pitch_y = hi.y - lo.y + gap;
   const int tiles = tiles_x * tiles_y;
   PdNodes out;
   PdGrains grains;
