@@ -10,14 +10,10 @@
 # one message, exit 2, nothing written. A run that blows up: the same health-check stop on 1 and 3 ranks.
 #   dem_on_ranks.sh <mpirun> <debris_dem> <source dir> <work dir>
 set -euo pipefail
-mpirun=$1 dem=$2 src=$3 work=$4
+mpirun=$1 dem=$2 src=$3 work=$4 exe=$2
+source "$(dirname "$0")/on_ranks.sh"
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
 export OMP_NUM_THREADS=1 OMP_WAIT_POLICY=passive
-run() {  # run <ranks> <debris_dem arguments...>
-  local np=$1
-  shift
-  "$mpirun" -np "$np" --oversubscribe --allow-run-as-root --mca mpi_yield_when_idle 1 "$dem" "$@"
-}
 sed -e "s|lammps_data: ../wear/data/|lammps_data: $src/scenarios/wear/data/|" -e 's|^run:|run:\n  steps: 3000|' \
     -e 's|thermo_every: 625|thermo_every: 250|' -e 's|dump_every: 6250|dump_every: 1500|' \
     -e 's|checkpoint_every: 12500 |checkpoint_every: 1500 |' -e 's|pictures: true |pictures: false|' \
@@ -27,18 +23,12 @@ sed -e 's|steps: 3000|steps: 1500|' full.yaml > half.yaml
 sed -e 's|poisson_ratio: 0.17|poisson_ratio: 0.4|' full.yaml > bad.yaml
 sed -e 's|time_step: 80 fs |time_step: 2 ps\n  allow_unstable_time_step: true\n |' full.yaml > unstable.yaml
 
-failed=0
-same() {  # same <file a> <file b> <what>
-  if cmp -s "$1" "$2"; then echo "same: $3"; else echo "DIFFERS: $3 ($1, $2)"; failed=1; fi
-}
 run 1 -i full.yaml -o one > one.log
 for np in 2 3 4; do
   run $np -i full.yaml -o ranks$np > ranks$np.log
   for f in thermo.csv wear.csv dump.lammpstrj; do same one/$f ranks$np/$f "$f on $np ranks"; done
   # HDF5 files carry their write times: h5diff compares every dataset and attribute instead.
-  for f in trajectory.h5 checkpoint.h5; do
-    if h5diff one/$f ranks$np/$f > /dev/null; then echo "same: $f on $np ranks (h5diff)"; else echo "DIFFERS: $f on $np ranks"; failed=1; fi
-  done
+  for f in trajectory.h5 checkpoint.h5; do same_h5 one/$f ranks$np/$f "$f on $np ranks"; done
   grep -q "^comm " ranks$np.log || { echo "no comm row in the pass table on $np ranks"; failed=1; }
 done
 # Hybrid: 2 ranks of 2 threads each (unbound: the two ranks share the machine's cores).
@@ -73,14 +63,5 @@ set -e
 [ ! -e bad ] || { echo "bad input wrote bad/"; failed=1; }
 # A run that blows up (25 times the input's time step): the health check stops it at the same step with the
 # same message on 1 and 3 ranks (the lowest rank that finds the pair reports it), exit 3 on every rank.
-for np in 1 3; do
-  set +e
-  run $np -i unstable.yaml -o unstable$np > unstable$np.out 2> unstable$np.err
-  status=$?
-  set -e
-  [ "$status" = 3 ] || { echo "unstable run on $np ranks: exit $status, not 3"; failed=1; }
-  grep "stopped: exploding overlap at step" unstable$np.err > unstable$np.stop || true
-  [ "$(wc -l < unstable$np.stop)" = 1 ] || { echo "unstable run on $np ranks: not one stop message"; cat unstable$np.err; failed=1; }
-done
-same unstable1.stop unstable3.stop "the health check's stop on 3 ranks"
+stops_alike unstable.yaml "stopped: exploding overlap at step" 1 3
 exit $failed
