@@ -341,8 +341,10 @@ PeridemSimulation PeridemSimulation::restore(const h5::File& f, std::string* inp
     const std::size_t ng = gr.node_begin.size();
     gr.id.resize(ng);
     for (std::size_t k = 0; k < ng; ++k) gr.id[k] = static_cast<int>(k);
+    // Every array read (a damaged file may shorten any one of them).
     for (const std::size_t s : {gr.node_end.size(), gr.kind.size(), gr.material.size(), gr.volume.size(), gr.cx.size(),
-                                gr.wall_vz.size(), sim.grain_names_.size()})
+                                gr.cy.size(), gr.cz.size(), gr.cvx.size(), gr.cvy.size(), gr.cvz.size(),
+                                gr.wall_vx.size(), gr.wall_vy.size(), gr.wall_vz.size(), sim.grain_names_.size()})
       if (s != ng) throw corrupt(path, "the grain arrays have different lengths");
     if (ng == 0) throw corrupt(path, "it holds no grains");
     // The grains own consecutive ranges of nodes that cover them all, and each node names its grain.
