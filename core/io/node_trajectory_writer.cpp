@@ -22,17 +22,10 @@ NodeFrameShare NodeFrameShare::all_of(const PdNodes& nodes) {
   return all;
 }
 
-namespace {
-std::vector<int> grain_column(const PdGrains& grains, bool ids) {
-  const auto& c = ids ? grains.id : grains.kind;
-  return std::vector<int>(c.begin(), c.end());
-}
-}  // namespace
-
 NodeTrajectoryWriter::NodeTrajectoryWriter(const std::string& dir, const std::string& stem, const PdNodes& nodes,
                                            const PdGrains& grains, const std::vector<std::string>& grain_names)
-    : NodeTrajectoryWriter(dir, stem, nodes, NodeFrameShare::all_of(nodes), {}, grain_column(grains, false),
-                           grain_names, false) {}
+    : NodeTrajectoryWriter(dir, stem, nodes, NodeFrameShare::all_of(nodes), {},
+                           std::vector<int>(grains.kind.begin(), grains.kind.end()), grain_names, false) {}
 
 NodeTrajectoryWriter::NodeTrajectoryWriter(const std::string& dir, const std::string& stem, const PdNodes& nodes,
                                            const NodeFrameShare& share, const std::vector<int>& grain_ids,

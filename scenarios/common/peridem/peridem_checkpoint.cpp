@@ -54,10 +54,13 @@ bool all_finite(const std::vector<double>& v) {
 void PeridemSimulation::write_checkpoint(const std::string& path, const std::string& input_echo) const {
   state_to_host();
   if (distributed_) return write_distributed_checkpoint(path, input_echo);
-  const std::vector<double> at_build[3] = {{list_.x_at_build().begin(), list_.x_at_build().end()},
-                                           {list_.y_at_build().begin(), list_.y_at_build().end()},
-                                           {list_.z_at_build().begin(), list_.z_at_build().end()}};
-  write_checkpoint_of(path, input_echo, nodes_, grains_, bonds_, at_build, broken_total_);
+  write_checkpoint_of(path, input_echo, nodes_, grains_, bonds_, positions_at_build(), broken_total_);
+}
+
+PeridemSimulation::Positions PeridemSimulation::positions_at_build() const {
+  return {std::vector<double>(list_.x_at_build().begin(), list_.x_at_build().end()),
+          std::vector<double>(list_.y_at_build().begin(), list_.y_at_build().end()),
+          std::vector<double>(list_.z_at_build().begin(), list_.z_at_build().end())};
 }
 
 void PeridemSimulation::write_distributed_checkpoint(const std::string& path, const std::string& input_echo) const {
@@ -79,7 +82,7 @@ void PeridemSimulation::write_distributed_checkpoint(const std::string& path, co
   std::int64_t broken = broken_total_;  // each rank's count of the bonds it broke
   comm::allreduce_sum(&broken, 1);
   if (comm::rank() != 0) return;  // rank 0 writes the file
-  std::vector<double> at_build[3];
+  Positions at_build;
   for (auto& c : at_build) c.assign(nodes.size(), 0.0);
   for (const std::vector<char>& part : parts) {
     comm::Unpacker u(part);
@@ -97,7 +100,7 @@ void PeridemSimulation::write_distributed_checkpoint(const std::string& path, co
 
 void PeridemSimulation::write_checkpoint_of(const std::string& path, const std::string& input_echo, const PdNodes& nodes,
                                             const PdGrains& grains, const BondList& bonds,
-                                            const std::vector<double> at_build[3], long broken_total) const {
+                                            const Positions& at_build, long broken_total) const {
   write_checkpoint_file(path, [&](const std::string& tmp) {
     h5::File f(tmp, h5::File::Mode::create);
     f.set_attribute<std::int64_t>("format_version", kFormatVersion);

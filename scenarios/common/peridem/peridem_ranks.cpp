@@ -33,15 +33,6 @@
 
 namespace debris {
 
-void PeridemSimulation::set_placed_box() {
-  placed_lo_ = {nodes_.x[0], nodes_.y[0], nodes_.z[0]};
-  placed_hi_ = placed_lo_;
-  for (std::size_t i = 0; i < nodes_.size(); ++i) {
-    placed_lo_ = {std::min(placed_lo_.x, nodes_.x[i]), std::min(placed_lo_.y, nodes_.y[i]), std::min(placed_lo_.z, nodes_.z[i])};
-    placed_hi_ = {std::max(placed_hi_.x, nodes_.x[i]), std::max(placed_hi_.y, nodes_.y[i]), std::max(placed_hi_.z, nodes_.z[i])};
-  }
-}
-
 double PeridemSimulation::ghost_width() const {
   // How far any node of a grain reaches past its grain's owner's subdomain (at a build every owned grain's
   // centre lies inside it), over all ranks, plus the contact reach. Before the ranks are cut: the farthest
@@ -97,11 +88,10 @@ void PeridemSimulation::distribute(std::array<int, 3> rank_grid) {
   // that build (the list's own; the current ones at a fresh set-up), so a restored run continues with its
   // list, its next build at the same step, and one process's bits. The current state comes back after.
   const std::size_t n = nodes_.size();
-  std::vector<double> now[3] = {{nodes_.x.begin(), nodes_.x.end()}, {nodes_.y.begin(), nodes_.y.end()},
-                                {nodes_.z.begin(), nodes_.z.end()}};
-  const std::vector<double> at_build[3] = {{list_.x_at_build().begin(), list_.x_at_build().end()},
-                                           {list_.y_at_build().begin(), list_.y_at_build().end()},
-                                           {list_.z_at_build().begin(), list_.z_at_build().end()}};
+  const Positions now{std::vector<double>(nodes_.x.begin(), nodes_.x.end()),
+                      std::vector<double>(nodes_.y.begin(), nodes_.y.end()),
+                      std::vector<double>(nodes_.z.begin(), nodes_.z.end())};
+  const Positions at_build = positions_at_build();
   if (at_build[0].size() != n) throw std::logic_error("PeridemSimulation::distribute: the list does not match the nodes");
   nodes_.x.assign(at_build[0].begin(), at_build[0].end());
   nodes_.y.assign(at_build[1].begin(), at_build[1].end());

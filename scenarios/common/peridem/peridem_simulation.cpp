@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <tuple>
+#include <utility>
 
 #include "core/comm/communicator.hpp"
 #include "core/error.hpp"
@@ -20,6 +22,16 @@ namespace debris {
 namespace {
 
 bool is_particle(const PdGrains& g, int k) { return g.kind[k] == static_cast<int>(PdGrainKind::particle); }
+
+// The bounding box of nodes [b, e) (b < e): lo, hi.
+std::pair<Vec3, Vec3> node_bounds(const PdNodes& n, std::size_t b, std::size_t e) {
+  Vec3 lo{n.x[b], n.y[b], n.z[b]}, hi = lo;
+  for (std::size_t i = b; i < e; ++i) {
+    lo = {std::min(lo.x, n.x[i]), std::min(lo.y, n.y[i]), std::min(lo.z, n.z[i])};
+    hi = {std::max(hi.x, n.x[i]), std::max(hi.y, n.y[i]), std::max(hi.z, n.z[i])};
+  }
+  return {lo, hi};
+}
 
 
 }  // namespace
@@ -411,11 +423,7 @@ std::string PeridemSimulation::move_held_wall(int g, Vec3 d) {
   // Refuse a wall that lands on the grains: the wall's bounding box grown by the largest contact radius
   // first (cheap), then node by node against the wall's nodes.
   const double reach = table_.max_contact_radius();
-  Vec3 lo{nodes_.x[b], nodes_.y[b], nodes_.z[b]}, hi = lo;
-  for (int i = b; i < e; ++i) {
-    lo = {std::min(lo.x, nodes_.x[i]), std::min(lo.y, nodes_.y[i]), std::min(lo.z, nodes_.z[i])};
-    hi = {std::max(hi.x, nodes_.x[i]), std::max(hi.y, nodes_.y[i]), std::max(hi.z, nodes_.z[i])};
-  }
+  const auto [lo, hi] = node_bounds(nodes_, static_cast<std::size_t>(b), static_cast<std::size_t>(e));
   const int wall_material = grains_.material[k];
   for (std::size_t j = 0; j < nodes_.size(); ++j) {
     const int gj = nodes_.grain[j];
@@ -454,6 +462,8 @@ void PeridemSimulation::set_global_damping(double c) {
   check_global_damping(c, settings_.time_step, "global_damping");
   settings_.global_damping = c;
 }
+
+void PeridemSimulation::set_placed_box() { std::tie(placed_lo_, placed_hi_) = node_bounds(nodes_, 0, nodes_.size()); }
 
 void PeridemSimulation::recompute_forces() {
   if (distributed_) {

@@ -18,6 +18,7 @@
 // contacts(), the checks, diagnostics() and checkpoints. The non-const nodes() and grains(), and the stage
 // changes (walls placed or set moving, grain velocities), mark the host copies as edited, so the next kernel
 // sends them first (state_to_device()).
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -257,9 +258,12 @@ class PeridemSimulation {
   static PeridemSimulation restore(const h5::File& f, std::string* input_echo);
   /// The file of write_checkpoint() from these nodes, grains, bonds and the list's build positions (this
   /// object's or the whole system's gathered on rank 0) and this object's settings and counters.
+  using Positions = std::array<std::vector<double>, 3>;  // x, y, z of every node
   void write_checkpoint_of(const std::string& path, const std::string& input_echo, const PdNodes& nodes,
-                           const PdGrains& grains, const BondList& bonds, const std::vector<double> at_build[3],
+                           const PdGrains& grains, const BondList& bonds, const Positions& at_build,
                            long broken_total) const;
+  /// The nodes' positions at the contact list's last build (the list's own, host copies).
+  Positions positions_at_build() const;
   void write_distributed_checkpoint(const std::string& path, const std::string& input_echo) const;
   void compute_forces();
   void rebuild_contacts();
