@@ -17,7 +17,7 @@ foreach(_t debris_openmp debris_core debris_kernels_dem debris_kernels_peridem d
   set_target_properties(${_t} PROPERTIES EXPORT_NAME ${_name})
 endforeach()
 
-install(TARGETS debris_dem debris_peridem debris_patch debris_amorphous debris_restitution
+install(TARGETS debris_dem debris_peridem debris_patch debris_amorphous debris_restitution debris_calibrate
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS ${_debris_libraries} EXPORT debrisTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}

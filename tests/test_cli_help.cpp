@@ -52,7 +52,8 @@ TEST(CliHelp, EveryExecutableEndsWithAnExampleThatWorksFromTheRepositoryRoot) {
                      {DEBRIS_PERIDEM_EXECUTABLE, "debris_peridem", true},
                      {DEBRIS_PATCH_EXECUTABLE, "debris_patch", false},
                      {DEBRIS_AMORPHOUS_EXECUTABLE, "debris_amorphous", false},
-                     {DEBRIS_RESTITUTION_EXECUTABLE, "debris_restitution", false}};
+                     {DEBRIS_RESTITUTION_EXECUTABLE, "debris_restitution", false},
+                     {DEBRIS_CALIBRATE_EXECUTABLE, "debris_calibrate", false}};
   for (const auto& x : executables) {
     SCOPED_TRACE(x.program);
     const Example e = example_of(x.exe, x.program);
@@ -66,11 +67,11 @@ TEST(CliHelp, EveryExecutableEndsWithAnExampleThatWorksFromTheRepositoryRoot) {
 }
 
 // Started as several processes by a launcher (its environment says so), an executable that runs as one
-// process (all five in a serial build) exits 2 before reading anything, the first process saying why.
+// process (all six in a serial build) exits 2 before reading anything, the first process saying why.
 TEST(CliProcesses, EveryExecutableOfASerialBuildRefusesManyProcesses) {
   if (comm::mpi_build()) GTEST_SKIP() << "an MPI build: tests/mpi runs debris_dem on ranks";
   for (const char* exe : {DEBRIS_DEM_EXECUTABLE, DEBRIS_PERIDEM_EXECUTABLE, DEBRIS_PATCH_EXECUTABLE,
-                          DEBRIS_AMORPHOUS_EXECUTABLE, DEBRIS_RESTITUTION_EXECUTABLE}) {
+                          DEBRIS_AMORPHOUS_EXECUTABLE, DEBRIS_RESTITUTION_EXECUTABLE, DEBRIS_CALIBRATE_EXECUTABLE}) {
     SCOPED_TRACE(exe);
     const test::CommandResult first =
         test::run_command("OMPI_COMM_WORLD_SIZE=3 OMPI_COMM_WORLD_RANK=0 " + std::string(exe), "-i no_such_input.yaml");

@@ -48,6 +48,7 @@
 // reported; include_shear = true asks for all six and then ends at the step limit with that message.
 #include <cstdint>
 #include <functional>
+#include <stdexcept>
 #include <string>
 
 #include "core/box.hpp"
@@ -88,6 +89,11 @@ struct AmorphousSpec {
   long check_every = 10;             // steps between stress measurements and box updates
   double box_relaxation_time = 1.0;  // tau, in crossing times L_max / sqrt(E / rho)
   double max_box_strain = 1e-3;      // cap on |eps_a| per update
+  // > 0: phase 2 stops with SampleCollapse when the box would shrink until the spheres' volume over the
+  // box's passes this (a pair law whose attraction outreaches the packing pulls it together without end;
+  // the calibration of scenarios/calibrate asks for 1). 0: no such stop. Not part of the recipe's key: a
+  // sample it lets through is the same sample.
+  double collapse_fraction = 0.0;
 
   /// Throws InputError naming "sample.<key>" or "relaxation.<key>" (the input file's keys) for the first
   /// bad value: d0 below d_min (eq 19), a size distribution that is not d_s < 1 < d_l, a volume fraction
@@ -170,10 +176,19 @@ StressTensor stress_at_rest(DemSimulation& sim);
 double relax_phase1(DemSimulation& sim, const AmorphousSpec& spec, const AmorphousObserver& observer = {},
                     long report_every = 0);
 
+/// Phase 2 pulled the box in past AmorphousSpec::collapse_fraction: the inputs make no sample (a property of
+/// the pair law and the recipe, not of the input's keys).
+struct SampleCollapse : std::runtime_error {
+  SampleCollapse(const std::string& what, long step, double fraction)
+      : std::runtime_error(what), step(step), volume_fraction(fraction) {}
+  long step;
+  double volume_fraction;
+};
+
 /// Phase 2: runs with the moving box until the criterion holds. Returns the steps taken. Throws InputError
 /// naming relaxation.phase2.max_steps (with the stress reached) when it does not hold within the limit, or
-/// sample.length / sample.width when the box would shrink below min_periodic_length(); std::runtime_error
-/// if the state turns non-finite.
+/// sample.length / sample.width when the box would shrink below min_periodic_length(); SampleCollapse past
+/// spec.collapse_fraction (checked first); std::runtime_error if the state turns non-finite.
 long relax_phase2(DemSimulation& sim, const AmorphousSpec& spec, const AmorphousObserver& observer = {},
                   long report_every = 0, StressTensor* final_stress = nullptr);
 
