@@ -270,9 +270,10 @@ CalibrationResult calibrate(const CalibrationSpec& spec, const std::function<voi
       result.why = "target tensile_strength " + format_value(target.tensile_strength) +
                    " is out of reach for this sample recipe: the most a sample measured is " + format_value(closest) +
                    " (with E on target); the input that limits it is " + tension_input_key(knob) + ": at " +
-                   format_value(std::exp(edge_bad)) + " times E the relaxed packing collapses, its attraction "
-                   "reaching past its neighbours, and " + format_value(std::exp(edge_good)) +
-                   " times E is the largest that made a sample";
+                   format_value(std::exp(edge_bad) * target.youngs_modulus) + " (with E = " +
+                   format_value(target.youngs_modulus) + ") the relaxed packing collapses, its attraction "
+                   "reaching past its neighbours, and " + format_value(std::exp(edge_good) * target.youngs_modulus) +
+                   " is the largest that made a sample";
       tension_out_of_reach = true;
     }
     if (!ok[0] && ((last.nu_in >= kLargestInputNu && last.r[0] < 0) || (last.nu_in <= 0 && last.r[0] > 0))) {
