@@ -106,6 +106,7 @@ BondList BondList::build(const PdNodes& nodes, const PdGrains& grains, const std
     const double horizon = horizon_of_grain[g];
     const BoxView box = grain_box(x0 + begin, y0 + begin, z0 + begin, m, horizon);
     cells.build(box, x0 + begin, y0 + begin, z0 + begin, m, horizon);
+    cells.to_host();  // the search below runs on the host (set-up only)
     for (int i = begin; i < end; ++i) {
       int c = 0;
       for_each_partner(i, begin, horizon, [&](int j, double r) {
@@ -137,6 +138,7 @@ BondList BondList::build(const PdNodes& nodes, const PdGrains& grains, const std
     const double horizon = horizon_of_grain[g];
     const BoxView box = grain_box(x0 + begin, y0 + begin, z0 + begin, m, horizon);
     cells.build(box, x0 + begin, y0 + begin, z0 + begin, m, horizon);
+    cells.to_host();  // the search below runs on the host (set-up only)
     for (int i = begin; i < end; ++i) {
       row.clear();
       for_each_partner(i, begin, horizon, [&](int j, double) { row.push_back(j); });

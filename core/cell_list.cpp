@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/device_scan.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
 
@@ -57,13 +58,16 @@ void CellList::build(const BoxView& box, const double* x, const double* y, const
   // resize keeps the capacity: no reallocation when n and the grid do not grow.
   cell_of_.resize(static_cast<std::size_t>(n));
   sorted_index_.resize(static_cast<std::size_t>(n));
-  cell_start_.assign(static_cast<std::size_t>(ncell) + 1, 0);
+  cell_start_.resize(static_cast<std::size_t>(ncell) + 1);
   cursor_.resize(static_cast<std::size_t>(ncell));
 
   const double* __restrict px = x;
   const double* __restrict py = y;
   const double* __restrict pz = z;
   int* __restrict cell = cell_of_.data();
+  int* __restrict start = cell_start_.data();
+  int* __restrict sorted = sorted_index_.data();
+  int* __restrict cursor = cursor_.data();
   const double lo0 = box.lo[0], lo1 = box.lo[1], lo2 = box.lo[2];
   const double inv0 = 1.0 / edge_[0], inv1 = 1.0 / edge_[1], inv2 = 1.0 / edge_[2];
   const int n0 = dims_[0], n1 = dims_[1], n2 = dims_[2];
@@ -77,19 +81,64 @@ void CellList::build(const BoxView& box, const double* x, const double* y, const
     cell[i] = cx + n0 * (cy + n1 * cz);
   }
 
-  // Counting sort, serial: it is a small part of a rebuild and keeps the order deterministic. It runs on
-  // the host in offload builds too (n ints each way per build).
-  exec::to_host(cell_of_);
-  int* start = cell_start_.data();
+#if defined(DEBRIS_OFFLOAD_TARGET)
+  // On the device: count per cell (atomic adds: the counts do not depend on their order), prefix sum, fill
+  // through atomic cursors (any order within a cell), then each cell's few indices sorted ascending: the
+  // serial counting sort's result, with one scalar (the scan's total) between host and device.
+  DEBRIS_RESIDENT(cell, start, sorted, cursor);
+  DEBRIS_KERNEL
+  for (int c = 0; c <= ncell; ++c) start[c] = 0;
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    DEBRIS_PRAGMA(omp atomic update)
+    ++start[cell[i] + 1];
+  }
+  inclusive_scan(start + 1, ncell, scan_scratch_);
+  DEBRIS_KERNEL
+  for (int c = 0; c < ncell; ++c) cursor[c] = start[c];
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    int slot;
+    DEBRIS_PRAGMA(omp atomic capture)
+    slot = cursor[cell[i]]++;
+    sorted[slot] = i;
+  }
+  DEBRIS_KERNEL
+  for (int c = 0; c < ncell; ++c) {
+    // A cell holds a handful of particles: insertion sort.
+    for (int k = start[c] + 1; k < start[c + 1]; ++k) {
+      const int v = sorted[k];
+      int h = k;
+      while (h > start[c] && sorted[h - 1] > v) {
+        sorted[h] = sorted[h - 1];
+        --h;
+      }
+      sorted[h] = v;
+    }
+  }
+#else
+  // Counting sort, serial: a small part of a rebuild, and deterministic.
+  std::fill(start, start + ncell + 1, 0);
   for (int i = 0; i < n; ++i) ++start[cell[i] + 1];
   for (int c = 0; c < ncell; ++c) start[c + 1] += start[c];
-  std::copy(cell_start_.begin(), cell_start_.end() - 1, cursor_.begin());
-  for (int i = 0; i < n; ++i) sorted_index_[static_cast<std::size_t>(cursor_[static_cast<std::size_t>(cell[i])]++)] = i;
-  exec::to_device(cell_start_);
-  exec::to_device(sorted_index_);
+  std::copy(start, start + ncell, cursor);
+  for (int i = 0; i < n; ++i) sorted[cursor[cell[i]]++] = i;
+#endif
+}
+
+void CellList::to_host() const {
+  exec::to_host(cell_start_);
+  exec::to_host(sorted_index_);
+  exec::to_host(cell_of_);
+}
+
+std::vector<int> CellList::sort_order() const {
+  exec::to_host(sorted_index_);
+  return std::vector<int>(sorted_index_.begin(), sorted_index_.end());
 }
 
 std::vector<int> CellList::sort_order(const std::int64_t* key) const {
+  exec::to_host(cell_start_);
   std::vector<int> order = sort_order();
   const int ncell = cell_count();
   for (int c = 0; c < ncell; ++c) {

@@ -1,6 +1,7 @@
 #pragma once
 // Binning of particles into a regular grid of cells by counting sort: cell of each particle (a kernel),
-// count per cell, exclusive prefix sum (cell_start), stable fill (sorted_index). Neighbour searches visit
+// count per cell, exclusive prefix sum (cell_start), stable fill (sorted_index); all on the device in
+// offload builds. Neighbour searches visit
 // the 27 cells around a particle's cell; sorting particles in memory by cell (Particles::permute with
 // sort_order()) keeps those visits cache-friendly.
 #include <array>
@@ -55,14 +56,17 @@ class CellList {
   /// Linear index of cell (cx, cy, cz), x fastest.
   int cell_index(int cx, int cy, int cz) const { return cx + dims_[0] * (cy + dims_[1] * cz); }
 
-  /// New order that groups particles by cell, for Particles::permute: sorted_index() itself.
-  std::vector<int> sort_order() const { return std::vector<int>(sorted_index_.begin(), sorted_index_.end()); }
+  /// New order that groups particles by cell, for Particles::permute: sorted_index() itself (offload builds:
+  /// brought to the host first).
+  std::vector<int> sort_order() const;
   /// The same, each cell's particles in increasing `key` (host array, one per particle: the permanent ids).
   /// The order then depends only on the positions and the ids, not on the order the particles came in: the
   /// canonical order that makes sums the same bits on any storage order, and so on any rank count
   /// (shared/design/scale-mpi.md, section 4).
   std::vector<int> sort_order(const std::int64_t* key) const;
 
+  /// Offload builds: the three arrays are built on the device; a host reader brings them back first.
+  void to_host() const;
   /// Bytes held by the arrays.
   std::size_t bytes() const;
 
@@ -81,12 +85,12 @@ class CellList {
   int dims_[3] = {0, 0, 0};
   double edge_[3] = {0, 0, 0};
   int n_ = 0;
-  // Offload builds: the three arrays are on the device; cell_of is computed there, the counting sort runs
-  // on the host (to_host(cell_of), to_device(cell_start, sorted_index)), so all three are current on both.
+  // Offload builds: the arrays are built on the device and stay there (to_host() for a host reader).
   exec::DeviceVector<int> cell_start_;
   exec::DeviceVector<int> sorted_index_;
   exec::DeviceVector<int> cell_of_;
-  std::vector<int> cursor_;  // fill position per cell, kept to avoid reallocating
+  exec::DeviceVector<int> cursor_;           // fill position per cell, kept to avoid reallocating
+  exec::DeviceVector<long long> scan_scratch_;  // the prefix sum's block sums
 };
 
 }  // namespace debris

@@ -45,9 +45,21 @@ void ContactHistory::to_device() const {
 
 void ContactHistory::remember(const Particles& p, const NeighborList& list) {
   const int n = list.rows();
-  // The offsets are current on the host after every build. The largest id is found where the ids are
-  // current: on the device in offload builds (a re-sort leaves the host's copies stale).
+  // The offsets and the largest id are taken where they are current: on the device in offload builds (the
+  // list's prefix sum runs there, and a re-sort leaves the host's ids stale).
+#if defined(DEBRIS_OFFLOAD_TARGET)
+  old_offset_.resize(list.offset().size());
+  {
+    const int* src = list.offset().data();
+    int* dst = old_offset_.data();
+    const int m = static_cast<int>(old_offset_.size());
+    DEBRIS_RESIDENT(src, dst);
+    DEBRIS_KERNEL
+    for (int i = 0; i < m; ++i) dst[i] = src[i];
+  }
+#else
   old_offset_ = list.offset();
+#endif
   old_partner_.resize(static_cast<std::size_t>(list.entries()));
 #if defined(DEBRIS_OFFLOAD_TARGET)
   std::int64_t max_id = -1;
@@ -62,7 +74,6 @@ void ContactHistory::remember(const Particles& p, const NeighborList& list) {
   const std::int64_t max_id = p.max_id();
 #endif
   old_row_of_id_.assign(static_cast<std::size_t>(max_id + 1), -1);
-  exec::to_device(old_offset_);
   exec::to_device(old_row_of_id_);
   const int* offset = list.offset().data();
   const int* index = list.index().data();

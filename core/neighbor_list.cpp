@@ -9,6 +9,7 @@
 #include <string>
 #include <type_traits>
 
+#include "core/device_scan.hpp"
 #include "core/error.hpp"
 
 namespace debris {
@@ -85,6 +86,7 @@ void NeighborList::bin_classes(const BoxView& box, const Particles& p, const dou
     for (int c = 0; c < k; ++c) {
       if (classes_.members[a] == 0 || classes_.members[c] == 0) continue;
       const CellList& cl = class_cells_[static_cast<std::size_t>(a * k + c)];
+      cl.to_host();  // the grids are joined on the host (offload builds: n ints back per grid)
       ClassGrid& g = grids_.g[a * k + c];
       const std::array<int, 3> dims = cl.dims();
       const std::array<double, 3> edge = cl.cell_edge();
@@ -151,6 +153,20 @@ int NeighborList::prefix_sum() {
   return static_cast<int>(total);
 }
 
+int NeighborList::device_prefix_sum() {
+  const int n = static_cast<int>(offset_.size()) - 1;
+  if (n <= 0) {
+    offset_[0] = 0;
+    exec::to_device(offset_);
+    return 0;
+  }
+  const long long total = inclusive_scan(offset_.data() + 1, n, scan_scratch_);
+  if (total > std::numeric_limits<int>::max())
+    throw input_error("neighbor.max_cutoff", "(list of " + std::to_string(total) + "+ entries)",
+                      "too many neighbour entries for int offsets; reduce the cutoff or the skin");
+  return static_cast<int>(total);
+}
+
 void NeighborList::record(const BoxView& box, const Particles& p, double skin, NeighborKind kind) {
 #if defined(DEBRIS_OFFLOAD_TARGET)
   // The positions at the build are copied on the device, where needs_rebuild reads them.
@@ -186,6 +202,7 @@ NeighborList::Saved NeighborList::save() const {
 }
 
 void NeighborList::to_host() const {
+  exec::to_host(offset_);
   exec::to_host(index_);
   exec::to_host(x0_);
   exec::to_host(y0_);

@@ -195,7 +195,7 @@ class NeighborList {
   int rows() const { return rows_; }
   const exec::DeviceVector<int>& offset() const { return offset_; }  // size rows() + 1
   const exec::DeviceVector<int>& index() const { return index_; }    // neighbour indices
-  int entries() const { return offset_.empty() ? 0 : offset_.back(); }
+  int entries() const { return static_cast<int>(index_.size()); }  // index_ holds exactly the rows' entries
   NeighborKind kind() const { return kind_; }
   double skin() const { return skin_; }
   /// The single grid (size_classes().count == 1); with size classes it is not built.
@@ -206,6 +206,8 @@ class NeighborList {
   // Non-template parts of build, in neighbor_list.cpp.
   void check(const BoxView& box, const Particles& p, double max_cutoff, double skin, double r_max_cutoff) const;
   int prefix_sum();  // offset_[1..n] holds row counts on entry, the exclusive prefix sum on exit; returns the total
+  // The same where offset_ lives (offload builds: on the device, only the total back); offset_[0] must be 0.
+  int device_prefix_sum();
   void record(const BoxView& box, const Particles& p, double skin, NeighborKind kind);
   static double max_radius(const Particles& p);
   // Size classes: bins each class's members into its grids, given reach[a * count + b] for each class pair;
@@ -231,8 +233,9 @@ class NeighborList {
   exec::DeviceVector<int> grid_start_, grid_sorted_;
   std::vector<long long> thread_candidates_;
   long long candidates_ = 0;
-  // Offload builds: both on the device; the row counts come to the host for the prefix sum and go back.
+  // Offload builds: both on the device (the row counts are summed there); to_host() for host readers.
   exec::DeviceVector<int> offset_;
+  exec::DeviceVector<long long> scan_scratch_;  // device_prefix_sum's block sums
   exec::DeviceVector<int> index_;
   std::vector<std::vector<int>> thread_rows_;  // host build: each thread's rows, kept between builds
   exec::DeviceVector<double> x0_, y0_, z0_;  // positions at the last build (offload: copied on the device)
@@ -326,12 +329,12 @@ void NeighborList::build(const BoxView& box, const Particles& p, Cutoff cutoff, 
 #if defined(DEBRIS_OFFLOAD_TARGET)
     DEBRIS_RESIDENT(off, cls, x, y, z, r, start_all, sorted_all);
     DEBRIS_KERNEL
-    for (int i = 0; i < n; ++i)
+    for (int i = 0; i < n; ++i) {
+      if (i == 0) off[0] = 0;
       off[i + 1] = neighbor_row_classes(i, cls[i], grids, x, y, z, r, start_all, sorted_all, b, cutoff, skin, half,
                                         wrapped, nullptr);
-    exec::to_host(offset_);
-    resize_for_overwrite(index_, static_cast<std::size_t>(prefix_sum()));
-    exec::to_device(offset_);
+    }
+    resize_for_overwrite(index_, static_cast<std::size_t>(device_prefix_sum()));
     int* __restrict idx = index_.data();
     DEBRIS_RESIDENT(off, idx, cls, x, y, z, r, start_all, sorted_all);
     DEBRIS_KERNEL
@@ -375,17 +378,16 @@ void NeighborList::build(const BoxView& box, const Particles& p, Cutoff cutoff, 
   const double reach2 = (max_cutoff + skin) * (max_cutoff + skin);
 
 #if defined(DEBRIS_OFFLOAD_TARGET)
-  // Device: count the rows, place them (prefix sum on the host: n ints each way), scan again to fill.
+  // Device: count the rows, place them (prefix sum on the device), scan again to fill.
   DEBRIS_RESIDENT(off, cell_of, x, y, z, r, cell_start, sorted);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
+    if (i == 0) off[0] = 0;
     const Stencil st = cell_stencil(cell_of[i], n0, n1, n2, b.periodic);
     off[i + 1] = neighbor_row(i, st, x, y, z, r, cell_start, sorted, n0, n1, n2, b, cutoff, skin, reach2, half,
                                wrapped, nullptr);
   }
-  exec::to_host(offset_);
-  resize_for_overwrite(index_, static_cast<std::size_t>(prefix_sum()));
-  exec::to_device(offset_);
+  resize_for_overwrite(index_, static_cast<std::size_t>(device_prefix_sum()));
   int* __restrict idx = index_.data();
   DEBRIS_RESIDENT(off, idx, cell_of, x, y, z, r, cell_start, sorted);
   DEBRIS_KERNEL

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/bond_list.hpp"
+#include "core/device_scan.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/cell_stencil.hpp"
@@ -206,22 +207,20 @@ void PdContactList::build(const PdNodes& nodes, const PdGrains& grains, const Bo
   DEBRIS_RESIDENT(x, y, z, grain, kind, b_offset, b_partner, b_broken, cell_of, cell_start, sorted, off, buffer);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
+    if (i == 0) off[0] = 0;
     off[i + 1] =
         contact_row(i, x, y, z, cell_of, cell_start, sorted, n0, n1, n2, reach2, grain, kind, b_offset, b_partner,
                     b_broken, has_bonds, buffer + static_cast<std::size_t>(i) * kRowBuffer, kRowBuffer);
   }
-  // Serial prefix sum on the host: the offsets do not depend on the thread count (offload builds: the row
-  // counts come to the host, the offsets go back).
-  exec::to_host(offset_);
-  long long total = 0;
-  off[0] = 0;
-  for (int i = 1; i <= n; ++i) {
-    total += off[i];
-    if (total > std::numeric_limits<int>::max())
-      throw input_error("pd_contact.skin", format_value(skin), "too many contact candidates for int offsets");
-    off[i] = static_cast<int>(total);
+  // Prefix sum where the counts are (offload builds: on the device, the total back): exact integers, the
+  // same offsets on any thread count.
+  if (n == 0) {  // no kernel wrote off[0]
+    off[0] = 0;
+    exec::to_device(offset_);
   }
-  exec::to_device(offset_);
+  const long long total = inclusive_scan(off + 1, n, scan_scratch_);
+  if (total > std::numeric_limits<int>::max())
+    throw input_error("pd_contact.skin", format_value(skin), "too many contact candidates for int offsets");
   index_.resize(static_cast<std::size_t>(total));
   int* __restrict idx = index_.data();
   DEBRIS_RESIDENT(x, y, z, grain, kind, b_offset, b_partner, b_broken, cell_of, cell_start, sorted, off, buffer, idx);
@@ -264,8 +263,9 @@ void PdContactList::build(const PdNodes& nodes, const PdGrains& grains, const Bo
   skin_ = skin;
   built_ = true;
   stale_ = false;
-  // The slots are built on the host from the rows (offload builds: entries() ints to the host; the slot
-  // arrays go to the device at the end of build_slots).
+  // The slots are built on the host from the rows (offload builds: the offsets and entries() ints to the
+  // host; the slot arrays go to the device at the end of build_slots).
+  exec::to_host(offset_);
   exec::to_host(index_);
   build_slots(nodes, grains);
 }

@@ -18,9 +18,9 @@
 // are contiguous, so the damping pass is O(N): one pass over slots, one over grains, one over nodes.
 //
 // Offload builds: every array is an exec::DeviceVector. The searches, the copy of the build positions and
-// the in-place additions run on the device; the host does what is serial: the cell counting sort (CellList),
-// the two prefix sums (n ints each way) and the grain-pair slots (the rows come to the host, the slots go
-// to the device), once per build. The host copies of the rows are current after to_host().
+// the in-place additions, the cell counting sort (CellList) and the offsets' prefix sum run on the device;
+// the host builds the grain-pair slots (the offsets and rows come to the host, the slots go to the device),
+// once per build. The host copies of the rows are current after to_host().
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -111,6 +111,7 @@ class PdContactList {
   // The first kRowBuffer partners of every row, found by the counting pass of a build (kept between builds).
   static constexpr int kRowBuffer = 8;
   exec::DeviceVector<int> row_buffer_;
+  exec::DeviceVector<long long> scan_scratch_;  // the offsets' prefix sum
 };
 
 }  // namespace debris

@@ -51,6 +51,7 @@ struct Points {
 void build(CellList& cl, const BoxView& b, const Points& p, double min_cell_size) {
   p.to_device();
   cl.build(b, p.x.data(), p.y.data(), p.z.data(), p.n(), min_cell_size);
+  cl.to_host();  // offload builds: the counting sort ran on the device
 }
 
 // Independent reference for the cell coordinate along one axis.

@@ -21,6 +21,7 @@
 
 #include "core/exec.hpp"
 #include "core/io/hdf5_file.hpp"
+#include "core/pd_contact_list.hpp"
 #include "scenarios/common/dem/dem_simulation.hpp"
 #include "scenarios/common/peridem/peridem_input.hpp"
 #include "scenarios/common/peridem/peridem_simulation.hpp"
@@ -310,6 +311,45 @@ PdResult run_pd_model(long steps, const fs::path& dir) {
   r.broken_bonds = sim.broken_bonds();
   r.rebuilds = sim.contact_rebuilds();
   return r;
+}
+
+// Issue 30: a contact list build keeps the cell list (cell of each node, counting sort) and the row offsets'
+// prefix sum on the device. 60 builds of the impact's list, bytes between host and device counted per
+// build: the offsets and rows back and the slot arrays out (the grain-pair slots are still built on the
+// host) and nothing else; before this change the cell list's 2n + cells + 1 ints and the offsets out moved
+// too. The lists equal host fallback's bit for bit.
+TEST(DeviceResidency, PeridemListBuildMovesOnlyTheRowsForTheSlotsAndTheSlots) {
+  if (!device_with_own_memory()) GTEST_SKIP() << kNoDevice;
+  const fs::path dir = test::fresh_directory("debris_device_pd_builds");
+  PeridemSimulation sim = pd_impact(dir);
+  sim.run(50);
+  const PdNodes& nodes = sim.nodes();
+  const PdGrains& grains = sim.grains();
+  const BondList& bonds = sim.bonds();
+  const double cutoff = pd_mesh_size(nodes, grains), skin = 0.2 * cutoff;
+  const int builds = 60;
+  PdContactList list;
+  exec::reset_transfer_stats();
+  for (int b = 0; b < builds; ++b) list.build(nodes, grains, bonds, cutoff, skin);
+  const exec::TransferStats t = exec::transfer_stats();
+  double slot_bytes = 0;
+  for (const auto* v : {&list.grain_slot_offset(), &list.slot_owner(), &list.slot_partner_grain(),
+                        &list.slot_partner_node(), &list.slot_pair_offset(), &list.slot_pair_i(), &list.slot_pair_j(),
+                        &list.wall_slot_offset(), &list.wall_slot()})
+    slot_bytes += 4.0 * static_cast<double>(v->size());
+  const double n = static_cast<double>(nodes.size()), entries = static_cast<double>(list.index().size());
+  const double back = t.to_host_bytes / builds, out = t.to_device_bytes / builds;
+  std::cout << "per build: " << back << " B back, " << out << " B out (" << n << " nodes, " << entries
+            << " entries, slot arrays " << slot_bytes << " B)\n";
+  EXPECT_EQ(back, 4.0 * (n + 1) + 4.0 * entries) << "the offsets and rows, for the host's slot build";
+  EXPECT_EQ(out, slot_bytes) << "the slot arrays";
+  PdContactList host;
+  on_initial_device([&] {
+    host.build(nodes, grains, bonds, cutoff, skin);
+    return 0;
+  });
+  EXPECT_EQ(list.offset(), host.offset());
+  EXPECT_EQ(list.index(), host.index());
 }
 
 TEST(DeviceResidency, PeridemRunOnTheDeviceEqualsHostFallback) {

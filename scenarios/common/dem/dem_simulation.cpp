@@ -158,7 +158,8 @@ void DemSimulation::rebuild(const std::vector<int>* order) {
   const PassTimer timer(times_.neighbours);
   particles_to_device();
   // Offload builds: wrap, re-sort (a gather per column), neighbour search and history carry-over run on the
-  // device; the cell counting sorts and the row prefix sum run on the host (n ints each way).
+  // device, as do the cell counting sorts and the row prefix sum; the re-sort's order by id within each cell
+  // and the size-class binning run on the host (n ints each way).
   if (list_.rows() > 0) history_.remember(p_, list_);
   box_.wrap_resident(p_);
   if (order) {
