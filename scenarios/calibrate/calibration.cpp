@@ -52,6 +52,20 @@ RelaxedSample relax(const CalibrationSpec& spec, const CohesiveMaterial& inputs)
   return r;
 }
 
+CalibrationMeasure measure_of(const RelaxedSample& r, const ElasticResult& e, const StrengthResult& t,
+                              const StrengthResult& s) {
+  CalibrationMeasure m;
+  m.youngs_modulus = e.moduli.E;
+  m.poisson_ratio = e.moduli.nu;
+  m.tensile_strength = t.strength;
+  m.shear_strength = s.strength;
+  m.tension = t.outcome;
+  m.shear = s.outcome;
+  m.particles = r.particles;
+  m.relaxed_fraction = r.fraction;
+  return m;
+}
+
 ElasticSettings elastic_settings(const CalibrationSpec& spec, const CohesiveMaterial& inputs) {
   ElasticSettings e = spec.elastic;
   e.stress = spec.elastic_load * inputs.youngs_modulus;
@@ -122,15 +136,7 @@ CalibrationMeasure measure_sample(const CalibrationSpec& spec, const CohesiveMat
   const ElasticResult e = run_elastic_test(r.sample, inputs, elastic_settings(spec, inputs));
   const StrengthResult t = run_strength_test(r.sample, inputs, PatchTest::tension, spec.strength);
   const StrengthResult s = run_strength_test(r.sample, inputs, PatchTest::shear, spec.strength);
-  CalibrationMeasure m;
-  m.youngs_modulus = e.moduli.E;
-  m.poisson_ratio = e.moduli.nu;
-  m.tensile_strength = t.strength;
-  m.shear_strength = s.strength;
-  m.tension = t.outcome;
-  m.shear = s.outcome;
-  m.particles = r.particles;
-  m.relaxed_fraction = r.fraction;
+  CalibrationMeasure m = measure_of(r, e, t, s);
   m.seconds = seconds_since(t0);
   return m;
 }
@@ -207,15 +213,7 @@ CalibrationResult calibrate(const CalibrationSpec& spec, const std::function<voi
       const StrengthResult t = run_strength_test(sample->sample, x, PatchTest::tension, spec.strength);
       const StrengthResult s = run_strength_test(sample->sample, x, PatchTest::shear, spec.strength);
       step.runs_this_step += 2;
-      CalibrationMeasure& m = step.measured;
-      m.youngs_modulus = elastic.moduli.E;
-      m.poisson_ratio = elastic.moduli.nu;
-      m.tensile_strength = t.strength;
-      m.shear_strength = s.strength;
-      m.tension = t.outcome;
-      m.shear = s.outcome;
-      m.particles = sample->particles;
-      m.relaxed_fraction = sample->fraction;
+      step.measured = measure_of(*sample, elastic, t, s);
     } catch (const SampleCollapse&) {
       step.collapsed = true;
       sample.reset();
