@@ -66,6 +66,16 @@ CalibrationMeasure measure_of(const RelaxedSample& r, const ElasticResult& e, co
   return m;
 }
 
+// The inputs with every stress among them (E, sigma_N, sigma_T, gamma) times lambda: by idea 1 of the
+// header they measure lambda times every stress.
+CohesiveMaterial scaled(CohesiveMaterial m, double lambda) {
+  m.youngs_modulus *= lambda;
+  m.tensile_strength *= lambda;
+  m.shear_strength *= lambda;
+  m.surface_energy *= lambda;
+  return m;
+}
+
 ElasticSettings elastic_settings(const CalibrationSpec& spec, const CohesiveMaterial& inputs) {
   ElasticSettings e = spec.elastic;
   e.stress = spec.elastic_load * inputs.youngs_modulus;
@@ -179,7 +189,7 @@ CalibrationResult calibrate(const CalibrationSpec& spec, const std::function<voi
   double edge_bad = std::numeric_limits<double>::infinity();
   double most_t = 0;  // the largest tensile strength over E any sample measured
   double most_t_input = 0;  // ... and its tension input
-  // Set once the tension is known to be out of reach: the tension input then stays at most_t_k (the
+  // Set once the tension is known to be out of reach: the tension input then stays at most_t_input (the
   // closest reachable) and the loop goes on with nu and sigma_T alone.
   bool tension_out_of_reach = false;
 
@@ -224,7 +234,6 @@ CalibrationResult calibrate(const CalibrationSpec& spec, const std::function<voi
     result.steps.push_back(step);
     if (report) report(step);
 
-    std::array<double, 3> r{};
     if (step.collapsed) {
       edge_bad = std::min(edge_bad, log_k);
       if (good.empty()) {
@@ -234,7 +243,7 @@ CalibrationResult calibrate(const CalibrationSpec& spec, const std::function<voi
         break;
       }
     } else {
-      r = misses(step.measured);
+      const std::array<double, 3> r = misses(step.measured);
       good.push_back({x.poisson_ratio, log_k, std::log(x.shear_strength / x.youngs_modulus), r, x});
       edge_good = std::max(edge_good, log_k);
       if (step.measured.tensile_strength / step.measured.youngs_modulus > most_t) {
@@ -252,10 +261,7 @@ CalibrationResult calibrate(const CalibrationSpec& spec, const std::function<voi
       if (ok[0] && (ok[1] || tension_out_of_reach) && ok[2]) {
         if (result.runs + 3 > spec.max_runs) break;
         const double lambda = target.youngs_modulus / step.measured.youngs_modulus;
-        x.youngs_modulus *= lambda;
-        x.tensile_strength *= lambda;
-        x.shear_strength *= lambda;
-        x.surface_energy *= lambda;
+        x = scaled(x, lambda);
         if (tension_out_of_reach) most_t_input *= lambda;
         continue;
       }
@@ -291,6 +297,12 @@ CalibrationResult calibrate(const CalibrationSpec& spec, const std::function<voi
     int j = -1;
     for (int k : {1, 0, 2})
       if (j < 0 && !ok[static_cast<std::size_t>(k)] && !(k == 1 && tension_out_of_reach)) j = k;
+    CohesiveMaterial next = last.inputs;
+    if (tension_out_of_reach) set_tension_value(knob, next, most_t_input);
+    if (j < 0) {  // only the tension was off, and it was just found out of reach: measure at the closest
+      x = next;
+      continue;
+    }
     auto input_of = [](const Point& p, int k) { return k == 0 ? p.nu_in : k == 1 ? p.log_k : p.log_b; };
     double slope = kPriorSlope[j];
     for (std::size_t a = good.size(); a-- > 1;) {
@@ -306,8 +318,6 @@ CalibrationResult calibrate(const CalibrationSpec& spec, const std::function<voi
     }
     slope = std::clamp(slope, 0.5 * kPriorSlope[j], 2.0 * kPriorSlope[j]);
     const double d = -last.r[static_cast<std::size_t>(j)] / slope;
-    CohesiveMaterial next = last.inputs;
-    if (tension_out_of_reach) set_tension_value(knob, next, most_t_input);
     if (j == 0) next.poisson_ratio = std::clamp(last.nu_in + std::clamp(d, -kLargestNuStep, kLargestNuStep), 0.0,
                                                 kLargestInputNu);
     if (j == 2)
@@ -340,11 +350,7 @@ CalibrationResult calibrate(const CalibrationSpec& spec, const std::function<voi
     result.expected = result.steps.back().measured;
   } else if (best) {
     const double lambda = target.youngs_modulus / best->measured.youngs_modulus;
-    result.inputs = best->inputs;
-    result.inputs.youngs_modulus *= lambda;
-    result.inputs.tensile_strength *= lambda;
-    result.inputs.shear_strength *= lambda;
-    result.inputs.surface_energy *= lambda;
+    result.inputs = scaled(best->inputs, lambda);
     result.expected = best->measured;
     result.expected.youngs_modulus *= lambda;
     result.expected.tensile_strength *= lambda;

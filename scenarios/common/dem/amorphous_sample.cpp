@@ -388,12 +388,13 @@ long relax_phase2(DemSimulation& sim, const AmorphousSpec& spec, const Amorphous
       next[a] = t;
       moved = moved || next[a] != now[a];
     }
-    if (spec.collapse_fraction > 0.0 && solid / (next[0] * next[1] * next[2]) > spec.collapse_fraction) {
+    if (const double fraction = solid / (next[0] * next[1] * next[2]);
+        spec.collapse_fraction > 0.0 && fraction > spec.collapse_fraction) {
       std::ostringstream os;
       os << "the sample collapses: at step " << s << " of phase 2 the box would shrink to a volume fraction of "
-         << solid / (next[0] * next[1] * next[2]) << " (it started phase 2 at " << solid / (len0.x * len0.y * len0.z)
+         << fraction << " (it started phase 2 at " << solid / (len0.x * len0.y * len0.z)
          << "): the pair law's attraction pulls the packing in without end";
-      throw SampleCollapse(os.str(), s, solid / (next[0] * next[1] * next[2]));
+      throw SampleCollapse(os.str(), s, fraction);
     }
     for (int a = 0; a < 3; ++a) {
       if (next[a] < min_len) {
