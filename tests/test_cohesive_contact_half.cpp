@@ -7,10 +7,16 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numeric>
+#include <random>
 #include <vector>
 
+#include "core/contact_history.hpp"
 #include "core/exec.hpp"
 #include "core/lattice.hpp"
+#include "core/neighbor_list.hpp"
+#include "kernels/dem/cohesive_contact.hpp"
+#include "kernels/dem/cohesive_contact_half.hpp"
 #include "scenarios/common/dem/dem_simulation.hpp"
 #include "tests/dem_sheared_sample.hpp"
 
@@ -106,6 +112,77 @@ TEST(DemEngine, VirialStressIsTheSameFromHalfAndFullLists) {
                    &StressTensor::yz})
       EXPECT_NEAR(f.*m, h.*m, 1e-9 * scale);
   }
+}
+
+// The pass on its own, on 1, 2, 3, 5 and 8 threads, with the particles stored in lattice order and shuffled
+// (partners anywhere in the rows, so every thread's rows send shares to every other's): the same forces and
+// torques bit for bit over five passes in a row (the springs carried from one to the next); and equal to the
+// full-list pass.
+TEST(DemEngine, HalfPassSameBitsOnAnyThreadCountAndParticleOrder) {
+  if (exec::offload_build()) GTEST_SKIP() << "the half pass on host arrays, called directly (the engine's own tests cover offload builds)";
+  Lattice lat = make_lattice(fcc_spec({6, 5, 5}, 0.04, 1.0));
+  const Box box(lat.box.lo(), lat.box.hi(), {true, false, true});
+  const CohesiveMaterial material = table4(0.9);
+  const CohesiveCoefficients coef = CohesiveCoefficients::from(material);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-0.02, 0.02);
+  Particles base = lat.particles;
+  base.set_mass_from_density(material.density);
+  for (std::size_t i = 0; i < base.size(); ++i) base.vx[i] = u(rng), base.vy[i] = u(rng), base.wz[i] = u(rng);
+  const double dt = 0.1 * stability_limits(coef, base).dt_c;
+  const double r_max = *std::max_element(base.radius.begin(), base.radius.end());
+  const double max_cutoff = CohesiveCutoff{coef}(r_max, r_max), skin = 0.1 * max_cutoff;
+  std::vector<int> shuffled(base.size());
+  std::iota(shuffled.begin(), shuffled.end(), 0);
+  std::shuffle(shuffled.begin(), shuffled.end(), rng);
+  const int saved = exec::threads();
+  for (const bool shuffle : {false, true}) {
+    Particles p0 = base;
+    if (shuffle) p0.permute(shuffled);
+    // Five passes (the springs carried from one to the next), on `threads` threads.
+    auto run = [&](int threads, PairPass pass) {
+      exec::set_threads(threads);
+      Particles p = p0;
+      NeighborList list;
+      list.build(box.view(), p, CohesiveCutoff{coef}, max_cutoff, skin,
+                 pass == PairPass::half ? NeighborKind::half : NeighborKind::full);
+      ContactHistory history;
+      history.reset(list);
+      CohesivePairTable table;
+      table.build(coef, p, list);
+      HalfPassScratch scratch;
+      scratch.index(list);
+      for (int step = 0; step < 5; ++step) {
+        if (pass == PairPass::half) {
+          cohesive_contact_pass_half(table, CohesiveOptions{}, box.view(), p, list, history, dt, 1, scratch);
+        } else {
+          zero_forces(p);
+          cohesive_contact_pass(coef, CohesiveOptions{}, box.view(), p, list, history, dt, 1);
+        }
+        for (std::size_t i = 0; i < p.size(); ++i) p.x[i] += dt * p.vx[i], p.y[i] += dt * p.vy[i];  // the springs load
+      }
+      return p;
+    };
+    const Particles one = run(1, PairPass::half);
+    const Particles full = run(1, PairPass::full);
+    double fmax = 0;
+    for (std::size_t i = 0; i < one.size(); ++i) fmax = std::max({fmax, std::abs(one.fx[i]), std::abs(one.fy[i])});
+    ASSERT_GT(fmax, 0.0);
+    for (std::size_t i = 0; i < one.size(); ++i) {
+      ASSERT_NEAR(one.fx[i], full.fx[i], 1e-9 * fmax) << "i " << i;
+      ASSERT_NEAR(one.fy[i], full.fy[i], 1e-9 * fmax) << "i " << i;
+      ASSERT_NEAR(one.fz[i], full.fz[i], 1e-9 * fmax) << "i " << i;
+    }
+    for (const int threads : {2, 3, 5, 8}) {
+      const Particles many = run(threads, PairPass::half);
+      for (std::size_t i = 0; i < one.size(); ++i) {
+        for (const auto c : {&Particles::fx, &Particles::fy, &Particles::fz, &Particles::tx, &Particles::ty,
+                             &Particles::tz})
+          ASSERT_EQ((one.*c)[i], (many.*c)[i]) << threads << " threads, shuffled " << shuffle << ", particle " << i;
+      }
+    }
+  }
+  exec::set_threads(saved);
 }
 
 }  // namespace
