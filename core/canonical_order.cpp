@@ -1,6 +1,7 @@
 #include "core/canonical_order.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <numeric>
 #include <utility>
@@ -15,14 +16,17 @@ CanonicalGrid CanonicalGrid::of(const BoxView& box, long long n_total, double ce
 }
 
 long long CanonicalGrid::cell_of(double x, double y, double z) const {
-  const double c[3] = {x, y, z};
-  long long cell = 0;
-  for (int a = 2; a >= 0; --a) {
+  const double r[3] = {x, y, z};
+  long long c[3];
+  for (int a = 0; a < 3; ++a) {
     const auto k = static_cast<std::size_t>(a);
     // 1.0 / edge, as CellList::build bins.
-    cell = cell * grid.dims[k] + cell_coordinate(c[a], box.lo[a], 1.0 / grid.edge[k], grid.dims[k], box.periodic[a]);
+    c[a] = cell_coordinate(r[a], box.lo[a], 1.0 / grid.edge[k], grid.dims[k], box.periodic[a]);
   }
-  return cell;
+  // The cell's place in the order CellList::sort_order(key) visits cells in.
+  const std::array<int, 3> ax = canonical_axes(box.periodic);
+  const auto d = [&](int a) { return static_cast<long long>(grid.dims[static_cast<std::size_t>(a)]); };
+  return c[ax[0]] + d(ax[0]) * (c[ax[1]] + d(ax[1]) * c[ax[2]]);
 }
 
 std::vector<int> canonical_order(const CanonicalGrid& g, const Particles& p) {

@@ -1,6 +1,7 @@
 #pragma once
 // The order particles are stored in, the same whatever order they came in and however the box is cut among
-// ranks (shared/design/scale-mpi.md, section 4): by the cell of one grid, then by permanent id. The grid is
+// ranks (shared/design/scale-mpi.md, section 4): by the cell of one grid (cells in canonical_axes order),
+// then by permanent id. The grid is
 // the one CellList::build makes for the whole box and the whole system's particle count, so a rank that
 // holds its own particles and its ghosts computes every key exactly as a one-process run does (a ghost is
 // binned by its owner's coordinates, which it keeps bit for bit). With storage in this order and each
@@ -19,7 +20,8 @@ struct CanonicalGrid {
   CellList::Grid grid;
   /// The grid of CellList::build for `n_total` particles in `box` with cells at least `cell_size` wide.
   static CanonicalGrid of(const BoxView& box, long long n_total, double cell_size);
-  /// The cell a point falls in (as CellList::build bins it: periodic images folded, walled axes clamped).
+  /// The place, in the canonical order of cells (canonical_axes), of the cell a point falls in (as
+  /// CellList::build bins it: periodic images folded, walled axes clamped).
   long long cell_of(double x, double y, double z) const;
 };
 

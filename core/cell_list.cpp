@@ -53,6 +53,7 @@ void CellList::build(const BoxView& box, const double* x, const double* y, const
     edge_[a] = g.edge[static_cast<std::size_t>(a)];
   }
   n_ = n;
+  for (int a = 0; a < 3; ++a) periodic_[a] = box.periodic[a];
   const int ncell = cell_count();
 
   // resize keeps the capacity: no reallocation when n and the grid do not grow.
@@ -139,22 +140,28 @@ std::vector<int> CellList::sort_order() const {
 
 std::vector<int> CellList::sort_order(const std::int64_t* key) const {
   exec::to_host(cell_start_);
-  std::vector<int> order = sort_order();
-  const int ncell = cell_count();
-  for (int c = 0; c < ncell; ++c) {
-    // Cells hold a handful of particles: insertion sort, stable and without allocation.
-    const auto first = order.begin() + cell_start_[static_cast<std::size_t>(c)];
-    const auto last = order.begin() + cell_start_[static_cast<std::size_t>(c) + 1];
-    for (auto it = first; it != last; ++it) {
-      const int v = *it;
-      auto hole = it;
-      while (hole != first && key[*(hole - 1)] > key[v]) {
-        *hole = *(hole - 1);
-        --hole;
+  const std::vector<int> by_cell = sort_order();  // grouped by linear cell index
+  std::vector<int> order;
+  order.reserve(by_cell.size());
+  const std::array<int, 3> ax = canonical_axes(periodic_);
+  int c[3];
+  for (c[ax[2]] = 0; c[ax[2]] < dims_[ax[2]]; ++c[ax[2]])
+    for (c[ax[1]] = 0; c[ax[1]] < dims_[ax[1]]; ++c[ax[1]])
+      for (c[ax[0]] = 0; c[ax[0]] < dims_[ax[0]]; ++c[ax[0]]) {
+        const auto cell = static_cast<std::size_t>(cell_index(c[0], c[1], c[2]));
+        const auto first = static_cast<std::ptrdiff_t>(order.size());
+        order.insert(order.end(), by_cell.begin() + cell_start_[cell], by_cell.begin() + cell_start_[cell + 1]);
+        // Cells hold a handful of particles: insertion sort, stable.
+        for (auto it = order.begin() + first; it != order.end(); ++it) {
+          const int v = *it;
+          auto hole = it;
+          while (hole != order.begin() + first && key[*(hole - 1)] > key[v]) {
+            *hole = *(hole - 1);
+            --hole;
+          }
+          *hole = v;
+        }
       }
-      *hole = v;
-    }
-  }
   return order;
 }
 

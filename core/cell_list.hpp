@@ -28,6 +28,19 @@ inline int cell_coordinate(double x, double lo, double inv_edge, int nc, int per
 }
 DEBRIS_END_DECLARE_TARGET
 
+/// The order the canonical order (sort_order(key), core/canonical_order) visits cells in: the axes from the
+/// fastest to the slowest. x fastest and z slowest, unless z is periodic and another axis is walled: that
+/// axis goes slowest. Why: threads own contiguous rows of the half-list pass, and along a periodic slowest
+/// axis the first layer of cells has its partners across the face in the last layer, held by another
+/// thread, so every step their data crossed between cores (the Table 6 junction, walled in y and periodic
+/// in z, gained nothing from a second thread). Along a walled axis a layer's partners are its neighbours.
+inline std::array<int, 3> canonical_axes(const int periodic[3]) {
+  if (!periodic[2]) return {0, 1, 2};
+  if (!periodic[1]) return {0, 2, 1};
+  if (!periodic[0]) return {1, 2, 0};
+  return {0, 1, 2};
+}
+
 class CellList {
  public:
   /// Bins n particles into cells whose edge is >= min_cell_size on every axis. In offload builds x, y, z
@@ -59,7 +72,8 @@ class CellList {
   /// New order that groups particles by cell, for Particles::permute: sorted_index() itself (offload builds:
   /// brought to the host first).
   std::vector<int> sort_order() const;
-  /// The same, each cell's particles in increasing `key` (host array, one per particle: the permanent ids).
+  /// The canonical order: by cell, the cells in canonical_axes() order (x fastest; the slowest axis z, or a
+  /// walled one), each cell's particles in increasing `key` (host array, one per particle: the permanent ids).
   /// The order then depends only on the positions and the ids, not on the order the particles came in: the
   /// canonical order that makes sums the same bits on any storage order, and so on any rank count
   /// (shared/design/scale-mpi.md, section 4).
@@ -85,11 +99,12 @@ class CellList {
   int dims_[3] = {0, 0, 0};
   double edge_[3] = {0, 0, 0};
   int n_ = 0;
+  int periodic_[3] = {0, 0, 0};
   // Offload builds: the arrays are built on the device and stay there (to_host() for a host reader).
   exec::DeviceVector<int> cell_start_;
   exec::DeviceVector<int> sorted_index_;
   exec::DeviceVector<int> cell_of_;
-  exec::DeviceVector<int> cursor_;           // fill position per cell, kept to avoid reallocating
+  exec::DeviceVector<int> cursor_;              // fill position per cell, kept to avoid reallocating
   exec::DeviceVector<long long> scan_scratch_;  // the prefix sum's block sums
 };
 

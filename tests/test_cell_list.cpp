@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <string>
@@ -230,8 +231,10 @@ namespace {
 // Host arrays only (canonical_order reads host copies; the cell sort is checked on the device above).
 TEST(CanonicalOrder, EqualsTheWholeSystemsCellSortByIdInAnyInputOrder) {
   if (exec::offload_build()) GTEST_SKIP() << "host copies only";
-  for (const bool periodic : {true, false}) {
-    const BoxView b = make_view(7.3, 5.1, 4.4, periodic, true, periodic, -1.0);
+  // Walled in x and z, periodic everywhere, and walled in y or in x alone (the walled axis goes slowest).
+  for (const auto per : {std::array<bool, 3>{false, true, false}, std::array<bool, 3>{true, true, true},
+                         std::array<bool, 3>{true, false, true}, std::array<bool, 3>{false, true, true}}) {
+    const BoxView b = make_view(7.3, 5.1, 4.4, per[0], per[1], per[2], -1.0);
     Particles p;
     std::mt19937_64 rng(21);
     std::uniform_real_distribution<double> ux(-1.0, 6.3), uy(-1.0, 4.1), uz(-1.0, 3.4);
@@ -244,6 +247,19 @@ TEST(CanonicalOrder, EqualsTheWholeSystemsCellSortByIdInAnyInputOrder) {
     const std::vector<int> by_cells = cl.sort_order(p.id.data());
     const CanonicalGrid g = CanonicalGrid::of(b, static_cast<long long>(p.size()), cell);
     EXPECT_EQ(canonical_order(g, p), by_cells);
+    // Layer after layer along the slowest axis: z, or the walled axis where z is periodic.
+    const int slow = !per[2] || (per[0] && per[1]) ? 2 : (!per[1] ? 1 : 0);
+    EXPECT_EQ(canonical_axes(b.periodic)[2], slow);
+    const auto dims = cl.dims();
+    const std::array<const double*, 3> coord{p.x.data(), p.y.data(), p.z.data()};
+    int last = 0;
+    for (const int i : by_cells) {
+      const auto a = static_cast<std::size_t>(slow);
+      const int layer = cell_coordinate(coord[a][i], b.lo[slow],
+                                        1.0 / cl.cell_edge()[a], dims[a], b.periodic[slow]);
+      ASSERT_GE(layer, last);
+      last = layer;
+    }
     // Shuffled input: the same particles (by id) in the same places of the order.
     Particles q = p;
     std::vector<int> shuffle(p.size());
