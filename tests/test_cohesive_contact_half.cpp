@@ -114,12 +114,13 @@ TEST(DemEngine, VirialStressIsTheSameFromHalfAndFullLists) {
   }
 }
 
-// The pass on its own, on 1, 2, 3, 5 and 8 threads, with the particles stored in lattice order and shuffled
-// (partners anywhere in the rows, so every thread's rows send shares to every other's): the same forces and
-// torques bit for bit over five passes in a row (the springs carried from one to the next); and equal to the
-// full-list pass.
+// The pass on its own, on 1, 2, 3, 5 and 8 threads, by parts and with every share filed, with the particles
+// stored in lattice order (each part's tail a layer) and shuffled (partners anywhere in the rows: tails that
+// reach several parts ahead and hold most pairs): the same forces and torques bit for bit over five passes in
+// a row (the springs carried from one to the next); and equal to the full-list pass.
 TEST(DemEngine, HalfPassSameBitsOnAnyThreadCountAndParticleOrder) {
-  if (exec::offload_build()) GTEST_SKIP() << "the half pass on host arrays, called directly (the engine's own tests cover offload builds)";
+  if (exec::offload_build())
+    GTEST_SKIP() << "the half pass on host arrays, called directly (the engine's own tests cover offload builds)";
   Lattice lat = make_lattice(fcc_spec({6, 5, 5}, 0.04, 1.0));
   const Box box(lat.box.lo(), lat.box.hi(), {true, false, true});
   const CohesiveMaterial material = table4(0.9);
@@ -140,7 +141,7 @@ TEST(DemEngine, HalfPassSameBitsOnAnyThreadCountAndParticleOrder) {
     Particles p0 = base;
     if (shuffle) p0.permute(shuffled);
     // Five passes (the springs carried from one to the next), on `threads` threads.
-    auto run = [&](int threads, PairPass pass) {
+    auto run = [&](int threads, PairPass pass, HalfPassPath path = HalfPassPath::automatic) {
       exec::set_threads(threads);
       Particles p = p0;
       NeighborList list;
@@ -151,6 +152,7 @@ TEST(DemEngine, HalfPassSameBitsOnAnyThreadCountAndParticleOrder) {
       CohesivePairTable table;
       table.build(coef, p, list);
       HalfPassScratch scratch;
+      scratch.path = path;
       scratch.index(list);
       for (int step = 0; step < 5; ++step) {
         if (pass == PairPass::half) {
@@ -173,14 +175,16 @@ TEST(DemEngine, HalfPassSameBitsOnAnyThreadCountAndParticleOrder) {
       ASSERT_NEAR(one.fy[i], full.fy[i], 1e-9 * fmax) << "i " << i;
       ASSERT_NEAR(one.fz[i], full.fz[i], 1e-9 * fmax) << "i " << i;
     }
-    for (const int threads : {2, 3, 5, 8}) {
-      const Particles many = run(threads, PairPass::half);
-      for (std::size_t i = 0; i < one.size(); ++i) {
-        for (const auto c : {&Particles::fx, &Particles::fy, &Particles::fz, &Particles::tx, &Particles::ty,
-                             &Particles::tz})
-          ASSERT_EQ((one.*c)[i], (many.*c)[i]) << threads << " threads, shuffled " << shuffle << ", particle " << i;
+    for (const int threads : {2, 3, 5, 8})
+      for (const HalfPassPath path : {HalfPassPath::parts, HalfPassPath::filed}) {
+        const Particles many = run(threads, PairPass::half, path);
+        for (std::size_t i = 0; i < one.size(); ++i) {
+          for (const auto c :
+               {&Particles::fx, &Particles::fy, &Particles::fz, &Particles::tx, &Particles::ty, &Particles::tz})
+            ASSERT_EQ((one.*c)[i], (many.*c)[i]) << threads << " threads, shuffled " << shuffle << ", path "
+                                                 << static_cast<int>(path) << ", particle " << i;
+        }
       }
-    }
   }
   exec::set_threads(saved);
 }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "core/contact_history.hpp"
@@ -136,26 +138,117 @@ void HalfPassScratch::index(const NeighborList &list) {
   resize_for_overwrite(row_of, static_cast<std::size_t>(m));
   for (int i = 0; i < n; ++i)
     for (int k = offset[i]; k < offset[i + 1]; ++k) row_of[static_cast<std::size_t>(k)] = i;
+  partition(list, exec::threads());
+}
+
+void HalfPassScratch::partition(const NeighborList &list, int count) {
+  const int n = list.rows();
+  const int *offset = list.offset().data();
+  const int *col = list.index().data();
+  parts = std::max(1, count);
+  // The rows of each part that hold a pair with a partner in a later part: particles are stored in cell
+  // order, so these are about one layer of cells before the part's end, and, where the box is periodic
+  // along the slowest axis of the order, the first layer (whose partners across the face are the last).
+  std::vector<char> tail(static_cast<std::size_t>(n));
+  auto find_tails = [&] {
+    for (int t = 0; t < parts; ++t) {
+      const int begin = part_row[static_cast<std::size_t>(t)], end = part_row[static_cast<std::size_t>(t) + 1];
+      for (int i = begin; i < end; ++i) {
+        char crosses = 0;
+        for (int k = offset[i]; k < offset[i + 1]; ++k) crosses |= col[k] >= end ? 1 : 0;
+        tail[static_cast<std::size_t>(i)] = crosses;
+      }
+    }
+  };
+  // Parts of contiguous rows of about equal work: first equal pairs; then a part's own sweep costs a pair for
+  // each pair it sweeps on the spot and about a quarter of one for each tail pair whose kept shares it adds
+  // (the tails themselves are swept before, shared equally among the threads). A part's tail is a thin slab
+  // that moves with its end, so two more rounds settle the ends.
+  part_row.assign(static_cast<std::size_t>(parts) + 1, n);
+  part_row[0] = 0;
+  std::vector<double> work(static_cast<std::size_t>(n) + 1, 0.0);
+  for (int round = 0; round < 3; ++round) {
+    for (int i = 0; i < n; ++i) {
+      const double pairs = offset[i + 1] - offset[i];
+      const bool kept = round > 0 && tail[static_cast<std::size_t>(i)];
+      work[static_cast<std::size_t>(i) + 1] = work[static_cast<std::size_t>(i)] + (kept ? 0.25 * pairs : pairs);
+    }
+    for (int t = 1; t < parts; ++t) {
+      const double target = work[static_cast<std::size_t>(n)] * t / parts;
+      const auto at = std::lower_bound(work.begin(), work.end(), target) - work.begin();
+      part_row[static_cast<std::size_t>(t)] =
+          std::max(part_row[static_cast<std::size_t>(t) - 1], static_cast<int>(std::min<std::ptrdiff_t>(at, n)));
+    }
+    find_tails();
+  }
+  // Runs of tail rows (gaps of a few rows closed: fewer, longer runs sweep faster, and a row kept that did
+  // not need to be is only a row whose shares are added later, in the same order).
+  constexpr int kGapRows = 8;
+  run_begin.clear(), run_end.clear(), run_pair.assign(1, 0), run_sum.assign(1, 0);
+  part_run.assign(1, 0);
+  for (int t = 0; t < parts; ++t) {
+    const int begin = part_row[static_cast<std::size_t>(t)], end = part_row[static_cast<std::size_t>(t) + 1];
+    for (int i = begin; i < end; ++i) {
+      if (!tail[static_cast<std::size_t>(i)]) continue;
+      if (static_cast<int>(run_begin.size()) > part_run.back() && i - run_end.back() <= kGapRows) {
+        run_end.back() = i + 1;
+      } else {
+        run_begin.push_back(i);
+        run_end.push_back(i + 1);
+      }
+    }
+    part_run.push_back(static_cast<int>(run_begin.size()));
+  }
+  for (std::size_t r = 0; r < run_begin.size(); ++r) {
+    run_pair.push_back(run_pair.back() + offset[run_end[r]] - offset[run_begin[r]]);
+    run_sum.push_back(run_sum.back() + run_end[r] - run_begin[r]);
+  }
+  // The tails' sweep, in units of whole rows and at most kUnitPairs pairs, shared equally among the threads.
+  unit_run.clear(), unit_begin.clear(), unit_end.clear();
+  thread_unit.assign(1, 0);  // thread t sweeps units thread_unit[t] .. thread_unit[t+1]
+  for (std::size_t r = 0; r < run_begin.size(); ++r)
+    for (int i = run_begin[r]; i < run_end[r];) {
+      int e = i + 1;
+      while (e < run_end[r] && offset[e + 1] - offset[i] <= kUnitPairs) ++e;
+      const int before = run_pair[r] + offset[i] - offset[run_begin[r]];  // tail pairs in the units before
+      while (static_cast<int>(thread_unit.size()) < parts &&
+             before >= static_cast<long long>(run_pair.back()) * static_cast<long long>(thread_unit.size()) / parts)
+        thread_unit.push_back(static_cast<int>(unit_run.size()));
+      unit_run.push_back(static_cast<int>(r));
+      unit_begin.push_back(i);
+      unit_end.push_back(e);
+      i = e;
+    }
+  while (static_cast<int>(thread_unit.size()) <= parts) thread_unit.push_back(static_cast<int>(unit_run.size()));
+  // Where the tails hold many of the pairs (a small system, or one periodic along the order's slowest axis:
+  // the first layer's partners across the face are in the last part), every share is filed instead.
+  const double tail_fraction = offset[n] > 0 ? static_cast<double>(run_pair.back()) / offset[n] : 0.0;
+  file_all =
+      parts > 1 && (path == HalfPassPath::automatic ? tail_fraction > kMostTailPairs : path == HalfPassPath::filed);
+  if (file_all) {
+    index_filed(list);
+    for (std::vector<int> *v : {&run_begin, &run_end, &run_pair, &run_sum, &unit_run, &unit_begin, &unit_end})
+      v->assign(v == &run_pair || v == &run_sum ? 1 : 0, 0);
+    std::fill(part_run.begin(), part_run.end(), 0);
+    std::fill(thread_unit.begin(), thread_unit.end(), 0);
+    std::vector<double>().swap(tail_share), std::vector<double>().swap(tail_sum);
+    return;
+  }
+  for (std::vector<int> *v : {&in_offset, &in_entry, &block_row}) std::vector<int>().swap(*v);
+  std::vector<double>().swap(filed);
+  resize_for_overwrite(tail_share, static_cast<std::size_t>(kShareStride) * static_cast<std::size_t>(run_pair.back()));
+  resize_for_overwrite(tail_sum, static_cast<std::size_t>(kShareStride) * static_cast<std::size_t>(run_sum.back()));
+}
+
+void HalfPassScratch::index_filed(const NeighborList &list) {
+  const int n = list.rows(), m = list.entries();
+  const int *offset = list.offset().data();
+  const int *col = list.index().data();
   // Row blocks of about kBlockPairs pairs, whole rows each, so a row's own sum is made by one thread.
   block_row.assign(1, 0);
   for (int i = 0; i < n; ++i)
     if (offset[i + 1] - offset[block_row.back()] >= kBlockPairs) block_row.push_back(i + 1);
   if (block_row.back() != n) block_row.push_back(n);
-  // The shares' index and buffer only where more than one thread sums: one thread adds each partner share
-  // on the spot, and the buffer (6 doubles per pair, 315 of 904 B per particle at N = 32,000) would be
-  // memory it never touches. A step on more threads builds them if the count rose since (index_shares).
-  if (exec::threads() > 1) {
-    index_shares(list);
-  } else {
-    for (std::vector<int> *v : {&in_offset, &in_entry}) std::vector<int>().swap(*v);
-    std::vector<double>().swap(partner);
-    shares_indexed = false;
-  }
-}
-
-void HalfPassScratch::index_shares(const NeighborList &list) {
-  const int n = list.rows(), m = list.entries();
-  const int *col = list.index().data();
   // Counting sort of the pairs by partner; the pairs of one partner keep increasing k.
   in_offset.assign(static_cast<std::size_t>(n) + 1, 0);
   for (int k = 0; k < m; ++k) ++in_offset[static_cast<std::size_t>(col[k]) + 1];
@@ -163,14 +256,76 @@ void HalfPassScratch::index_shares(const NeighborList &list) {
   resize_for_overwrite(in_entry, static_cast<std::size_t>(m));
   std::vector<int> fill(in_offset.begin(), in_offset.end() - 1);
   for (int k = 0; k < m; ++k) in_entry[static_cast<std::size_t>(fill[static_cast<std::size_t>(col[k])]++)] = k;
-  resize_for_overwrite(partner, static_cast<std::size_t>(kShareStride) * static_cast<std::size_t>(m));
-  shares_indexed = true;
+  resize_for_overwrite(filed, static_cast<std::size_t>(kShareStride) * static_cast<std::size_t>(m));
 }
 
 std::size_t HalfPassScratch::bytes() const {
-  return sizeof(int) * (row_of.capacity() + in_offset.capacity() + in_entry.capacity() + block_row.capacity()) +
-         sizeof(double) * partner.capacity();
+  std::size_t ints = row_of.capacity() + part_row.capacity() + part_run.capacity() + thread_unit.capacity();
+  for (const std::vector<int> *v : {&run_begin, &run_end, &run_pair, &run_sum, &unit_run, &unit_begin, &unit_end})
+    ints += v->capacity();
+  ints += block_row.capacity() + in_offset.capacity() + in_entry.capacity();
+  return sizeof(int) * ints + sizeof(double) * (tail_share.capacity() + tail_sum.capacity() + filed.capacity());
 }
+
+namespace {
+
+// Every partner share filed at its pair's index by the row's thread (blocks of whole rows), then gathered by
+// each particle in increasing k: the same sums as the parts make, for lists whose tails would hold most pairs.
+void filed_pass(const PairInputs &in, const NeighborList &list, Particles &p, HalfPassScratch &s) {
+  constexpr std::ptrdiff_t kStride = HalfPassScratch::kShareStride;
+  const int n = list.rows();
+  const int blocks = static_cast<int>(s.block_row.size()) - 1;
+  const int *__restrict block_row = s.block_row.data();
+  const int *__restrict offset = list.offset().data();
+  const int *__restrict in_entry = s.in_entry.data();
+  const int *__restrict in_offset = s.in_offset.data();
+  double *__restrict filed = s.filed.data();
+  double *__restrict fx = p.fx.data(), *__restrict fy = p.fy.data(), *__restrict fz = p.fz.data();
+  double *__restrict tx = p.tx.data(), *__restrict ty = p.ty.data(), *__restrict tz = p.tz.data();
+  DEBRIS_HOST_PARALLEL {
+    ChunkBuffer c;  // per thread, on its stack
+    DEBRIS_HOST_FOR
+    for (int b = 0; b < blocks; ++b) {
+      for (int i = block_row[b]; i < block_row[b + 1]; ++i) fx[i] = fy[i] = fz[i] = tx[i] = ty[i] = tz[i] = 0.0;
+      sweep_rows(
+          in, offset[block_row[b]], offset[block_row[b + 1]], c,
+          [&](int i, const RowSum &r) {  // R, from zero
+            fx[i] += r.fx;
+            fy[i] += r.fy;
+            fz[i] += r.fz;
+            tx[i] += r.tx;
+            ty[i] += r.ty;
+            tz[i] += r.tz;
+          },
+          [&](int k, int q) {
+            double *share_k = filed + kStride * k;
+            share_k[0] = c.fx[q], share_k[1] = c.fy[q], share_k[2] = c.fz[q];
+            share_k[3] = c.tjx[q], share_k[4] = c.tjy[q], share_k[5] = c.tjz[q];
+          });
+    }
+    DEBRIS_HOST_FOR
+    for (int i = 0; i < n; ++i) {  // R + P, P from zero in increasing k
+      double sfx = 0, sfy = 0, sfz = 0, stx = 0, sty = 0, stz = 0;
+      for (int e = in_offset[i]; e < in_offset[i + 1]; ++e) {
+        const double *share_e = filed + kStride * in_entry[e];
+        sfx -= share_e[0];
+        sfy -= share_e[1];
+        sfz -= share_e[2];
+        stx += share_e[3];
+        sty += share_e[4];
+        stz += share_e[5];
+      }
+      fx[i] = fx[i] + sfx;
+      fy[i] = fy[i] + sfy;
+      fz[i] = fz[i] + sfz;
+      tx[i] = tx[i] + stx;
+      ty[i] = ty[i] + sty;
+      tz[i] = tz[i] + stz;
+    }
+  }
+}
+
+}  // namespace
 
 void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOptions &opt, const BoxView &box,
                                 Particles &p, const NeighborList &list, ContactHistory &history, double dt,
@@ -178,7 +333,8 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
   if (list.kind() != NeighborKind::half) throw std::logic_error("cohesive_contact_pass_half needs a half list");
   if (s.row_of.size() != static_cast<std::size_t>(list.entries()))
     throw std::logic_error("cohesive_contact_pass_half: scratch not indexed for this list");
-  const int n = list.rows();
+  // The thread count may have changed since the list was built (the thread tuner): part the rows anew.
+  if (s.parts != exec::threads()) s.partition(list, exec::threads());
   const PairInputs in{s.row_of.data(),
                       list.index().data(),
                       table.coefficients,
@@ -201,35 +357,62 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
                       opt,
                       update_history};
 
-  constexpr int kShareStride = HalfPassScratch::kShareStride;
-  const int blocks = static_cast<int>(s.block_row.size()) - 1;
-  const int *__restrict block_row = s.block_row.data();
+  constexpr std::ptrdiff_t kStride = HalfPassScratch::kShareStride;
+  const int parts = s.parts;
   const int *__restrict offset = list.offset().data();
+  const int *__restrict col = list.index().data();
+  const int *__restrict part_row = s.part_row.data();
+  const int *__restrict part_run = s.part_run.data();
+  const int *__restrict run_begin = s.run_begin.data();
+  const int *__restrict run_end = s.run_end.data();
+  const int *__restrict run_pair = s.run_pair.data();
+  const int *__restrict run_sum = s.run_sum.data();
+  double *__restrict tail_share = s.tail_share.data();
+  double *__restrict tail_sum = s.tail_sum.data();
   double *__restrict fx = p.fx.data(), *__restrict fy = p.fy.data(), *__restrict fz = p.fz.data();
   double *__restrict tx = p.tx.data(), *__restrict ty = p.ty.data(), *__restrict tz = p.tz.data();
+
   // Each particle's force (and torque) is R + P: R its row's own shares summed in increasing k, P the
   // shares of the pairs where it is the partner, summed from zero in increasing k (all of them come from
-  // rows before its own: a half list keeps a pair in row min(i, j)). Both paths below make exactly these
-  // sums, so 1 and 2 threads give the same bits.
-  if (exec::threads() == 1) {
-    // One thread: the rows in order, each pair's partner share added on the spot to f[j], which holds P_j
-    // until row j adds R_j. No shares filed and read back: on a memory-bound machine that traffic (6
-    // doubles written and read per pair, with the transposed index) was the largest part of the step's.
-    std::fill(fx, fx + n, 0.0), std::fill(fy, fy + n, 0.0), std::fill(fz, fz + n, 0.0);
-    std::fill(tx, tx + n, 0.0), std::fill(ty, ty + n, 0.0), std::fill(tz, tz + n, 0.0);
-    const int *__restrict col = list.index().data();
-    ChunkBuffer c;
+  // rows before its own: a half list keeps a pair in row min(i, j)). One thread makes these sums in a single
+  // sweep: the rows in order, each partner share added on the spot to f[j], which holds P_j until row j adds
+  // R_j. More threads make the same sums: each owns a part (contiguous rows) and sweeps it the same way, but
+  // the part's tail rows (those with a partner in a later part) are swept first, by all threads, their
+  // shares kept; a part then starts its P sums from the kept shares it receives from earlier parts and adds
+  // its own tail rows' shares where the sweep reaches them, in increasing k as one thread would. So any
+  // thread count gives the same bits, and only the tails' shares are filed (about two layers of cells per
+  // part, against 6 doubles per pair everywhere when every share was filed).
+  auto tail_unit = [&](int u, ChunkBuffer &c) {  // tail rows [unit_begin, unit_end) of one run, kept
+    const int r = s.unit_run[static_cast<std::size_t>(u)];
+    const int row0 = run_begin[r], k0 = offset[row0];
     sweep_rows(
-        in, 0, list.entries(), c,
-        [&](int i, const RowSum &r) {  // the finished row: R + P
-          fx[i] = r.fx + fx[i];
-          fy[i] = r.fy + fy[i];
-          fz[i] = r.fz + fz[i];
-          tx[i] = r.tx + tx[i];
-          ty[i] = r.ty + ty[i];
-          tz[i] = r.tz + tz[i];
+        in, offset[s.unit_begin[static_cast<std::size_t>(u)]], offset[s.unit_end[static_cast<std::size_t>(u)]], c,
+        [&](int i, const RowSum &q) {
+          double *sum_i = tail_sum + kStride * (run_sum[r] + i - row0);
+          sum_i[0] = q.fx, sum_i[1] = q.fy, sum_i[2] = q.fz, sum_i[3] = q.tx, sum_i[4] = q.ty, sum_i[5] = q.tz;
         },
-        [&](int k, int q) {  // P_j, in increasing k
+        [&](int k, int q) {
+          double *share_k = tail_share + kStride * (run_pair[r] + k - k0);
+          share_k[0] = c.fx[q], share_k[1] = c.fy[q], share_k[2] = c.fz[q];
+          share_k[3] = c.tjx[q], share_k[4] = c.tjy[q], share_k[5] = c.tjz[q];
+        });
+  };
+  auto add_partner_share = [&](int j, const double *share) {
+    fx[j] -= share[0], fy[j] -= share[1], fz[j] -= share[2];
+    tx[j] += share[3], ty[j] += share[4], tz[j] += share[5];
+  };
+  auto sweep = [&](int row0, int row1, ChunkBuffer &c) {  // rows swept on the spot: R + P, P_j in increasing k
+    sweep_rows(
+        in, offset[row0], offset[row1], c,
+        [&](int i, const RowSum &q) {
+          fx[i] = q.fx + fx[i];
+          fy[i] = q.fy + fy[i];
+          fz[i] = q.fz + fz[i];
+          tx[i] = q.tx + tx[i];
+          ty[i] = q.ty + ty[i];
+          tz[i] = q.tz + tz[i];
+        },
+        [&](int k, int q) {
           const int j = col[k];
           fx[j] -= c.fx[q];
           fy[j] -= c.fy[q];
@@ -238,68 +421,54 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
           ty[j] += c.tjy[q];
           tz[j] += c.tjz[q];
         });
+  };
+  auto part_sweep = [&](int u, ChunkBuffer &c) {  // part u's forces, once every tail is swept
+    const int begin = part_row[u], end = part_row[u + 1];
+    std::fill(fx + begin, fx + end, 0.0), std::fill(fy + begin, fy + end, 0.0), std::fill(fz + begin, fz + end, 0.0);
+    std::fill(tx + begin, tx + end, 0.0), std::fill(ty + begin, ty + end, 0.0), std::fill(tz + begin, tz + end, 0.0);
+    // The shares earlier parts' tails hold for this part's particles come first in k.
+    for (int r = 0; r < part_run[u]; ++r) {
+      const int k0 = offset[run_begin[r]], k1 = offset[run_end[r]];
+      for (int k = k0; k < k1; ++k)
+        if (col[k] >= begin && col[k] < end) add_partner_share(col[k], tail_share + kStride * (run_pair[r] + k - k0));
+    }
+    // The rows in order: swept on the spot between this part's tail runs, the runs from their kept shares.
+    int row = begin;
+    for (int r = part_run[u]; r < part_run[u + 1]; ++r) {
+      sweep(row, run_begin[r], c);
+      const int k0 = offset[run_begin[r]];
+      for (int i = run_begin[r]; i < run_end[r]; ++i) {
+        if (offset[i + 1] == offset[i]) continue;  // no row sum: f[i] is P_i, as in the sweep
+        const double *sum_i = tail_sum + kStride * (run_sum[r] + i - run_begin[r]);
+        fx[i] = sum_i[0] + fx[i];
+        fy[i] = sum_i[1] + fy[i];
+        fz[i] = sum_i[2] + fz[i];
+        tx[i] = sum_i[3] + tx[i];
+        ty[i] = sum_i[4] + ty[i];
+        tz[i] = sum_i[5] + tz[i];
+        for (int k = offset[i]; k < offset[i + 1]; ++k)
+          if (col[k] < end) add_partner_share(col[k], tail_share + kStride * (run_pair[r] + k - k0));
+      }
+      row = run_end[r];
+    }
+    sweep(row, end, c);
+  };
+
+  if (parts == 1) {  // no tail, no parallel region
+    ChunkBuffer c;
+    part_sweep(0, c);
     return;
   }
-
-  // Two or more threads (host threads only: this is the host pass; offload builds use the full-list pass):
-  // rows in blocks, one per thread at a time, partner shares filed at the pair's index and gathered per
-  // particle afterwards; both phases in one parallel region, the loop barrier between them.
-  if (!s.shares_indexed) s.index_shares(list);  // the thread count rose since the list was built
-  const int *__restrict in_entry = s.in_entry.data();
-  const int *__restrict in_offset = s.in_offset.data();
-  double *__restrict partner = s.partner.data();
+  if (s.file_all) return filed_pass(in, list, p, s);
+  // Host threads only: this is the host pass (offload builds use the full-list pass). The tails first, shared
+  // among the threads; the loop barrier; then one part per thread.
+  const int *__restrict thread_unit = s.thread_unit.data();
   DEBRIS_HOST_PARALLEL {
-    ChunkBuffer c;  // per thread, on its stack
-    // Phase 1: blocks of whole rows; each in chunks (the chunk loop is the vector loop), after which the
-    // row's own share is summed on the spot (in increasing k, carried across chunks) and the partner's
-    // share is filed at the pair's index.
+    ChunkBuffer c;   // per thread, on its stack
+    DEBRIS_HOST_FOR  // static: with one thread per part, thread t sweeps tail share t and then part t
+        for (int t = 0; t < parts; ++t) for (int u = thread_unit[t]; u < thread_unit[t + 1]; ++u) tail_unit(u, c);
     DEBRIS_HOST_FOR
-    for (int b = 0; b < blocks; ++b) {
-      // The block's rows start from zero here, not in a sweep of their own (this thread owns them; phase 2
-      // reads them only after the loop barrier).
-      for (int i = block_row[b]; i < block_row[b + 1]; ++i) fx[i] = fy[i] = fz[i] = tx[i] = ty[i] = tz[i] = 0.0;
-      sweep_rows(
-          in, offset[block_row[b]], offset[block_row[b + 1]], c,
-          [&](int i, const RowSum &r) {  // the finished row's own share: R = 0 + the sum
-            fx[i] += r.fx;
-            fy[i] += r.fy;
-            fz[i] += r.fz;
-            tx[i] += r.tx;
-            ty[i] += r.ty;
-            tz[i] += r.tz;
-          },
-          [&](int k, int q) {  // filed at the pair's index for phase 2
-            double *share_k = partner + static_cast<std::ptrdiff_t>(kShareStride) * k;
-            share_k[0] = c.fx[q];
-            share_k[1] = c.fy[q];
-            share_k[2] = c.fz[q];
-            share_k[3] = c.tjx[q];
-            share_k[4] = c.tjy[q];
-            share_k[5] = c.tjz[q];
-          });
-    }
-
-    // Phase 2: each particle sums the shares filed for it (pairs where it is the partner, in increasing k,
-    // from zero) and adds them to its own row's sum.
-    DEBRIS_HOST_FOR
-    for (int i = 0; i < n; ++i) {
-      double sfx = 0, sfy = 0, sfz = 0, stx = 0, sty = 0, stz = 0;
-      for (int e = in_offset[i]; e < in_offset[i + 1]; ++e) {
-        const double *share_e = partner + static_cast<std::ptrdiff_t>(kShareStride) * in_entry[e];
-        sfx -= share_e[0];
-        sfy -= share_e[1];
-        sfz -= share_e[2];
-        stx += share_e[3];
-        sty += share_e[4];
-        stz += share_e[5];
-      }
-      fx[i] = fx[i] + sfx;
-      fy[i] = fy[i] + sfy;
-      fz[i] = fz[i] + sfz;
-      tx[i] = tx[i] + stx;
-      ty[i] = ty[i] + sty;
-      tz[i] = tz[i] + stz;
-    }
+    for (int u = 0; u < parts; ++u) part_sweep(u, c);
   }
 }
 
