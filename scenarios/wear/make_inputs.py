@@ -122,7 +122,7 @@ run:
   time_step: {case['dt_fs']} fs              # Table 6
   overlap_limit: auto          # relaxed samples hold overlaps of 0.6-1.3 r_min
   skin: 0.5 nm                 # carving leaves vibration: a wide skin keeps rebuilds rare (README)
-  threads: 1                   # measured: a second thread does not pay at these sizes (RESULTS.md, Cost)
+  # threads: left to the tuner (two pay at d0 = 1.5 nm, one at 6 nm: RESULTS.md, Cost)
 
 wear:
   every: {steps(SAMPLE_NS)}                   # steps: {SAMPLE_NS} ns
