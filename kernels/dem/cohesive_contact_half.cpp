@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <stdexcept>
 
 #include "core/contact_history.hpp"
@@ -147,7 +145,7 @@ void HalfPassScratch::partition(const NeighborList &list, int count) {
   const int *col = list.index().data();
   parts = std::max(1, count);
   // The rows of each part that hold a pair with a partner in a later part: particles are stored in cell
-  // order, so these are about one layer of cells before the part's end, and, where the box is periodic
+  // order, so these are a slab about one cutoff thick before the part's end, and, where the box is periodic
   // along the slowest axis of the order, the first layer (whose partners across the face are the last).
   std::vector<char> tail(static_cast<std::size_t>(n));
   auto find_tails = [&] {
