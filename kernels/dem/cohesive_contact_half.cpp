@@ -378,8 +378,8 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
   // the part's tail rows (those with a partner in a later part) are swept first, by all threads, their
   // shares kept; a part then starts its P sums from the kept shares it receives from earlier parts and adds
   // its own tail rows' shares where the sweep reaches them, in increasing k as one thread would. So any
-  // thread count gives the same bits, and only the tails' shares are filed (about two layers of cells per
-  // part, against 6 doubles per pair everywhere when every share was filed).
+  // thread count gives the same bits, and only the tails' shares are kept (a slab one cutoff thick per part,
+  // against 6 doubles per pair everywhere when every share is filed: filed_pass).
   auto tail_unit = [&](int u, ChunkBuffer &c) {  // tail rows [unit_begin, unit_end) of one run, kept
     const int r = s.unit_run[static_cast<std::size_t>(u)];
     const int row0 = run_begin[r], k0 = offset[row0];
@@ -462,9 +462,12 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
   // among the threads; the loop barrier; then one part per thread.
   const int *__restrict thread_unit = s.thread_unit.data();
   DEBRIS_HOST_PARALLEL {
-    ChunkBuffer c;   // per thread, on its stack
-    DEBRIS_HOST_FOR  // static: with one thread per part, thread t sweeps tail share t and then part t
-        for (int t = 0; t < parts; ++t) for (int u = thread_unit[t]; u < thread_unit[t + 1]; ++u) tail_unit(u, c);
+    ChunkBuffer c;  // per thread, on its stack
+    // Static loops: with one thread per part, thread t sweeps its share of the tails, then part t.
+    DEBRIS_HOST_FOR
+    for (int t = 0; t < parts; ++t) {
+      for (int u = thread_unit[t]; u < thread_unit[t + 1]; ++u) tail_unit(u, c);
+    }
     DEBRIS_HOST_FOR
     for (int u = 0; u < parts; ++u) part_sweep(u, c);
   }
