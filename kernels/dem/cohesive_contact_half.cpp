@@ -165,7 +165,7 @@ void HalfPassScratch::partition(const NeighborList &list, int count) {
   part_row.assign(static_cast<std::size_t>(parts) + 1, n);
   part_row[0] = 0;
   std::vector<double> work(static_cast<std::size_t>(n) + 1, 0.0);
-  for (int round = 0; round < 3; ++round) {
+  for (int round = 0; round < (parts > 1 ? 3 : 1); ++round) {  // one part: nothing to move
     for (int i = 0; i < n; ++i) {
       const double pairs = offset[i + 1] - offset[i];
       const bool kept = round > 0 && tail[static_cast<std::size_t>(i)];
