@@ -263,77 +263,166 @@ void PdContactList::build(const PdNodes& nodes, const PdGrains& grains, const Bo
   skin_ = skin;
   built_ = true;
   stale_ = false;
-  // The slots are built on the host from the rows (offload builds: the offsets and entries() ints to the
-  // host; the slot arrays go to the device at the end of build_slots).
-  exec::to_host(offset_);
-  exec::to_host(index_);
-  build_slots(nodes, grains);
+  entries_ = static_cast<int>(total);
+  build_slots(nodes, grains);  // where the rows are: nothing but the scans' totals moves
 }
 
 void PdContactList::build_slots(const PdNodes& nodes, const PdGrains& grains) {
-  const int ng = static_cast<int>(grains.size());
-  grain_slot_offset_.assign(static_cast<std::size_t>(ng) + 1, 0);
-  slot_owner_.clear();
-  slot_partner_grain_.clear();
-  slot_partner_node_.clear();
-  slot_pair_offset_.assign(1, 0);
-  slot_pair_i_.clear();
-  slot_pair_j_.clear();
+  // Kernels over grains (offload builds: on the device, with the three totals as the only transfers), each
+  // grain's slots in the order of the serial definition: its cross-grain pairs in row order (i ascending,
+  // then list order), stably sorted by partner key, one slot per key. The sorts are insertion sorts of one
+  // grain's few dozen pairs, so the result does not depend on the thread count or the device.
+  const int ng = static_cast<int>(grains.size()), n = rows_;
+  const int* __restrict grain = nodes.grain.data();
+  const int* __restrict kind = grains.kind.data();
+  const int* __restrict node_begin = grains.node_begin.data();
+  const int* __restrict node_end = grains.node_end.data();
+  const int* __restrict off = offset_.data();
+  const int* __restrict idx = index_.data();
   const int wall = static_cast<int>(PdGrainKind::wall);
-  for (int p = 0; p < ng; ++p) {
-    grain_slot_offset_[static_cast<std::size_t>(p)] = static_cast<int>(slot_owner_.size());
-    if (grains.kind[static_cast<std::size_t>(p)] == wall) continue;
-    scratch_.clear();
-    for (int i = grains.node_begin[static_cast<std::size_t>(p)]; i < grains.node_end[static_cast<std::size_t>(p)];
-         ++i) {
-      for (int k = offset_[static_cast<std::size_t>(i)]; k < offset_[static_cast<std::size_t>(i) + 1]; ++k) {
-        const int j = index_[static_cast<std::size_t>(k)];
-        const int q = nodes.grain[static_cast<std::size_t>(j)];
-        if (q == p) continue;
-        const std::int64_t key = grains.kind[static_cast<std::size_t>(q)] == wall ? std::int64_t{ng} + j : q;
-        scratch_.push_back({key, i, j});
-      }
-    }
-    // Stable: within a slot the pairs stay in row order (i ascending, then list order).
-    std::stable_sort(scratch_.begin(), scratch_.end(),
-                     [](const SlotEntry& a, const SlotEntry& b) { return a.key < b.key; });
-    for (std::size_t e = 0; e < scratch_.size(); ++e) {
-      const std::int64_t key = scratch_[e].key;
-      if (e == 0 || key != scratch_[e - 1].key) {
-        if (e > 0) slot_pair_offset_.push_back(static_cast<int>(slot_pair_i_.size()));
-        const bool node_partner = key >= ng;
-        const int jn = node_partner ? static_cast<int>(key - ng) : -1;
-        slot_owner_.push_back(p);
-        slot_partner_grain_.push_back(node_partner ? nodes.grain[static_cast<std::size_t>(jn)] : static_cast<int>(key));
-        slot_partner_node_.push_back(jn);
-      }
-      slot_pair_i_.push_back(scratch_[e].i);
-      slot_pair_j_.push_back(scratch_[e].j);
-    }
-    if (!scratch_.empty()) slot_pair_offset_.push_back(static_cast<int>(slot_pair_i_.size()));
-  }
-  grain_slot_offset_[static_cast<std::size_t>(ng)] = static_cast<int>(slot_owner_.size());
 
-  // Slots by partner wall node (counting sort, slot order kept), for the reaction on the wall nodes.
-  wall_slot_offset_.assign(static_cast<std::size_t>(rows_) + 1, 0);
-  for (int jn : slot_partner_node_)
-    if (jn >= 0) ++wall_slot_offset_[static_cast<std::size_t>(jn) + 1];
-  for (int i = 0; i < rows_; ++i)
-    wall_slot_offset_[static_cast<std::size_t>(i) + 1] += wall_slot_offset_[static_cast<std::size_t>(i)];
-  wall_slot_.resize(static_cast<std::size_t>(wall_slot_offset_.back()));
-  std::vector<int> cursor(wall_slot_offset_.begin(), wall_slot_offset_.end() - 1);
-  for (int s = 0; s < static_cast<int>(slot_partner_node_.size()); ++s) {
-    const int jn = slot_partner_node_[static_cast<std::size_t>(s)];
-    if (jn >= 0) wall_slot_[static_cast<std::size_t>(cursor[static_cast<std::size_t>(jn)]++)] = s;
+  // The node pairs of each particle grain with another grain or a wall node: counts, then their offsets.
+  grain_pair_offset_.resize(static_cast<std::size_t>(ng) + 1);
+  grain_slot_offset_.resize(static_cast<std::size_t>(ng) + 1);
+  int* __restrict pair_start = grain_pair_offset_.data();
+  int* __restrict slot_start = grain_slot_offset_.data();
+  if (ng == 0) {  // no kernel writes the leading zeros
+    grain_pair_offset_[0] = grain_slot_offset_[0] = 0;
+    exec::to_device(grain_pair_offset_);
+    exec::to_device(grain_slot_offset_);
   }
-  for (const auto* v : {&grain_slot_offset_, &slot_owner_, &slot_partner_grain_, &slot_partner_node_,
-                        &slot_pair_offset_, &slot_pair_i_, &slot_pair_j_, &wall_slot_offset_, &wall_slot_})
-    exec::to_device(*v);
+  DEBRIS_RESIDENT(grain, kind, node_begin, node_end, off, idx, pair_start);
+  DEBRIS_KERNEL
+  for (int p = 0; p < ng; ++p) {
+    if (p == 0) pair_start[0] = 0;
+    int count = 0;
+    if (kind[p] != wall)
+      for (int i = node_begin[p]; i < node_end[p]; ++i)
+        for (int k = off[i]; k < off[i + 1]; ++k) count += grain[idx[k]] != p ? 1 : 0;
+    pair_start[p + 1] = count;
+  }
+  const long long pairs = inclusive_scan(pair_start + 1, ng, scan_scratch_);
+
+  // Each grain's pairs with their keys (partner grain q, or grains + wall node), stably sorted by key; the
+  // number of distinct keys is the grain's slot count.
+  slot_key_.resize(static_cast<std::size_t>(pairs));
+  slot_pair_i_.resize(static_cast<std::size_t>(pairs));
+  slot_pair_j_.resize(static_cast<std::size_t>(pairs));
+  long long* __restrict key = slot_key_.data();
+  int* __restrict pair_i = slot_pair_i_.data();
+  int* __restrict pair_j = slot_pair_j_.data();
+  DEBRIS_RESIDENT(grain, kind, node_begin, node_end, off, idx, pair_start, slot_start, key, pair_i, pair_j);
+  DEBRIS_KERNEL
+  for (int p = 0; p < ng; ++p) {
+    if (p == 0) slot_start[0] = 0;
+    const int first = pair_start[p], last = pair_start[p + 1];
+    int e = first;
+    for (int i = node_begin[p]; i < node_end[p] && e < last; ++i)
+      for (int k = off[i]; k < off[i + 1]; ++k) {
+        const int j = idx[k], q = grain[j];
+        if (q == p) continue;
+        key[e] = kind[q] == wall ? static_cast<long long>(ng) + j : q;
+        pair_i[e] = i;
+        pair_j[e] = j;
+        ++e;
+      }
+    for (int a = first + 1; a < last; ++a) {  // stable: equal keys keep their row order
+      const long long kv = key[a];
+      const int iv = pair_i[a], jv = pair_j[a];
+      int h = a;
+      for (; h > first && key[h - 1] > kv; --h) {
+        key[h] = key[h - 1];
+        pair_i[h] = pair_i[h - 1];
+        pair_j[h] = pair_j[h - 1];
+      }
+      key[h] = kv;
+      pair_i[h] = iv;
+      pair_j[h] = jv;
+    }
+    int distinct = 0;
+    for (int a = first; a < last; ++a) distinct += a == first || key[a] != key[a - 1] ? 1 : 0;
+    slot_start[p + 1] = distinct;
+  }
+  const long long slots = inclusive_scan(slot_start + 1, ng, scan_scratch_);
+
+  // One slot per distinct key of a grain, numbered from the grain's first slot.
+  const int ns = static_cast<int>(slots), np = static_cast<int>(pairs);
+  slot_owner_.resize(static_cast<std::size_t>(ns));
+  slot_partner_grain_.resize(static_cast<std::size_t>(ns));
+  slot_partner_node_.resize(static_cast<std::size_t>(ns));
+  slot_pair_offset_.resize(static_cast<std::size_t>(ns) + 1);
+  int* __restrict owner = slot_owner_.data();
+  int* __restrict partner_grain = slot_partner_grain_.data();
+  int* __restrict partner_node = slot_partner_node_.data();
+  int* __restrict pair_offset = slot_pair_offset_.data();
+  if (ng == 0) {
+    slot_pair_offset_[0] = 0;
+    exec::to_device(slot_pair_offset_);
+  }
+  DEBRIS_RESIDENT(grain, pair_start, slot_start, key, owner, partner_grain, partner_node, pair_offset);
+  DEBRIS_KERNEL
+  for (int p = 0; p < ng; ++p) {
+    if (p == 0) pair_offset[ns] = np;
+    int s = slot_start[p];
+    for (int a = pair_start[p]; a < pair_start[p + 1]; ++a) {
+      if (a > pair_start[p] && key[a] == key[a - 1]) continue;
+      const long long kv = key[a];
+      const int jn = kv >= ng ? static_cast<int>(kv - ng) : -1;
+      owner[s] = p;
+      partner_grain[s] = jn >= 0 ? grain[jn] : static_cast<int>(kv);
+      partner_node[s] = jn;
+      pair_offset[s] = a;
+      ++s;
+    }
+  }
+
+  // Slots by partner wall node, in slot order, for the reaction on the wall nodes: counts (atomic adds),
+  // offsets, a fill through atomic cursors (any order), then each wall node's few slots sorted ascending.
+  wall_slot_offset_.resize(static_cast<std::size_t>(n) + 1);
+  wall_cursor_.resize(static_cast<std::size_t>(n));
+  int* __restrict wall_start = wall_slot_offset_.data();
+  int* __restrict cursor = wall_cursor_.data();
+  DEBRIS_RESIDENT(partner_node, wall_start);
+  DEBRIS_KERNEL
+  for (int j = 0; j <= n; ++j) wall_start[j] = 0;
+  DEBRIS_KERNEL
+  for (int s = 0; s < ns; ++s) {
+    const int jn = partner_node[s];
+    if (jn >= 0) {
+      DEBRIS_PRAGMA(omp atomic update)
+      ++wall_start[jn + 1];
+    }
+  }
+  const long long wall_slots = inclusive_scan(wall_start + 1, n, scan_scratch_);
+  wall_slot_.resize(static_cast<std::size_t>(wall_slots));
+  int* __restrict by_wall = wall_slot_.data();
+  DEBRIS_RESIDENT(partner_node, wall_start, cursor, by_wall);
+  DEBRIS_KERNEL
+  for (int j = 0; j < n; ++j) cursor[j] = wall_start[j];
+  DEBRIS_KERNEL
+  for (int s = 0; s < ns; ++s) {
+    const int jn = partner_node[s];
+    if (jn >= 0) {
+      int at;
+      DEBRIS_PRAGMA(omp atomic capture)
+      at = cursor[jn]++;
+      by_wall[at] = s;
+    }
+  }
+  DEBRIS_KERNEL
+  for (int j = 0; j < n; ++j)
+    for (int a = wall_start[j] + 1; a < wall_start[j + 1]; ++a) {
+      const int v = by_wall[a];
+      int h = a;
+      for (; h > wall_start[j] && by_wall[h - 1] > v; --h) by_wall[h] = by_wall[h - 1];
+      by_wall[h] = v;
+    }
 }
 
 void PdContactList::to_host() const {
-  exec::to_host(offset_);
-  exec::to_host(index_);
+  for (const auto* v : {&offset_, &index_, &grain_slot_offset_, &slot_owner_, &slot_partner_grain_, &slot_partner_node_,
+                        &slot_pair_offset_, &slot_pair_i_, &slot_pair_j_, &wall_slot_offset_, &wall_slot_})
+    exec::to_host(*v);
   exec::to_host(x0_);
   exec::to_host(y0_);
   exec::to_host(z0_);
@@ -381,19 +470,13 @@ long PdContactList::add_broken_bonds(const BondList& bonds) {
           ++count;
       }
     }
+    if (i == 0) add[0] = 0;
     add[i + 1] = count;
   }
-  // Prefix sum on the host (offload builds: n ints each way, on steps that broke bonds only).
-  exec::to_host(added_);
-  long long total = 0;
-  add[0] = 0;
-  for (int i = 1; i <= n; ++i) {
-    total += add[i];
-    add[i] = static_cast<int>(total);
-  }
+  // Prefix sum where the counts are (offload builds: the total comes back, nothing else).
+  const long long total = n > 0 ? inclusive_scan(add + 1, n, scan_scratch_) : 0;
   if (total == 0) return 0;
-  exec::to_device(added_);
-  if (total + static_cast<long long>(entries()) > std::numeric_limits<int>::max())
+  if (total + static_cast<long long>(entries_) > std::numeric_limits<int>::max())
     throw input_error("pd_contact.skin", format_value(skin_), "too many contact candidates for int offsets");
 
   // Merge each row with its new partners (both ascending) into the spare index array, then swap.
@@ -416,9 +499,12 @@ long PdContactList::add_broken_bonds(const BondList& bonds) {
     }
     while (a < a_end) *o++ = *a++;
   }
-  // The host copy of offset_ is current since the build's prefix sum (or the last addition).
-  for (int i = 1; i <= n; ++i) offset_[static_cast<std::size_t>(i)] += added_[static_cast<std::size_t>(i)];
-  exec::to_device(offset_);
+  // Each row's end moves by the entries added up to it (after the merge, which read the old offsets).
+  int* __restrict row_end = offset_.data() + 1;
+  DEBRIS_RESIDENT(row_end, add);
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) row_end[i] += add[i + 1];
+  entries_ += static_cast<int>(total);
   index_.swap(spare_index_);
   return static_cast<long>(total);
 }
@@ -447,11 +533,12 @@ bool PdContactList::needs_rebuild(const PdNodes& nodes) const {
 std::size_t PdContactList::bytes() const {
   const std::size_t ints = offset_.capacity() + index_.capacity() + row_buffer_.capacity() + added_.capacity() +
                            spare_index_.capacity() +
+                           grain_pair_offset_.capacity() + wall_cursor_.capacity() +
                            grain_slot_offset_.capacity() + slot_owner_.capacity() + slot_partner_grain_.capacity() +
                            slot_partner_node_.capacity() + slot_pair_offset_.capacity() + slot_pair_i_.capacity() +
                            slot_pair_j_.capacity() + wall_slot_offset_.capacity() + wall_slot_.capacity();
   return sizeof(int) * ints + sizeof(double) * (x0_.capacity() + y0_.capacity() + z0_.capacity()) +
-         handled_.capacity() + sizeof(SlotEntry) * scratch_.capacity() + cells_.bytes();
+         handled_.capacity() + sizeof(long long) * slot_key_.capacity() + cells_.bytes();
 }
 
 }  // namespace debris

@@ -17,12 +17,11 @@
 // node as a grain of its own); it lists the node pairs of the Verlet list behind it. The slots of a grain
 // are contiguous, so the damping pass is O(N): one pass over slots, one over grains, one over nodes.
 //
-// Offload builds: every array is an exec::DeviceVector. The searches, the copy of the build positions and
-// the in-place additions, the cell counting sort (CellList) and the offsets' prefix sum run on the device;
-// the host builds the grain-pair slots (the offsets and rows come to the host, the slots go to the device),
-// once per build. The host copies of the rows are current after to_host().
+// Offload builds: every array is an exec::DeviceVector. The searches, the copy of the build positions, the
+// in-place additions, the cell counting sort (CellList), the prefix sums and the grain-pair slots run on the
+// device: a build or an addition moves only scalars (the scans' totals, the bounding box) between host and
+// device. The host copies of the rows and slots are current after to_host().
 #include <cstddef>
-#include <cstdint>
 #include <vector>
 
 #include "core/cell_list.hpp"
@@ -55,8 +54,8 @@ class PdContactList {
   /// (self-contact pairs have none). Returns the pairs added (entries, each pair counted from both ends).
   long add_broken_bonds(const BondList& bonds);
 
-  /// Transfer point (offload builds): the rows and the build positions, device -> host, for the host's
-  /// readers (checks, diagnostics, checkpoints). The slots are built on the host and are always current.
+  /// Transfer point (offload builds): the rows, the slots and the build positions, device -> host, for the
+  /// host's readers (checks, diagnostics, checkpoints, the wall reactions' exact sums).
   void to_host() const;
 
   int rows() const { return rows_; }
@@ -66,7 +65,7 @@ class PdContactList {
   const exec::DeviceVector<double>& x_at_build() const { return x0_; }
   const exec::DeviceVector<double>& y_at_build() const { return y0_; }
   const exec::DeviceVector<double>& z_at_build() const { return z0_; }
-  int entries() const { return offset_.empty() ? 0 : offset_.back(); }
+  int entries() const { return entries_; }  // kept on the host: no transfer
   double cutoff() const { return cutoff_; }
   double skin() const { return skin_; }
   const CellList& cells() const { return cells_; }
@@ -96,18 +95,17 @@ class PdContactList {
   // The list holds every broken bond within reach whose flag is set; a broken bond with the flag clear is new.
   exec::DeviceVector<unsigned char> handled_;
   exec::DeviceVector<double> x0_, y0_, z0_;  // positions at the last build
-  int rows_ = 0;
+  int rows_ = 0, entries_ = 0;
   double cutoff_ = 0, skin_ = 0;
   bool built_ = false, stale_ = false;
 
   exec::DeviceVector<int> grain_slot_offset_, slot_owner_, slot_partner_grain_, slot_partner_node_;
   exec::DeviceVector<int> slot_pair_offset_, slot_pair_i_, slot_pair_j_;
   exec::DeviceVector<int> wall_slot_offset_, wall_slot_;
-  struct SlotEntry {
-    std::int64_t key;  // partner grain q, or grains + wall node
-    int i, j;
-  };
-  std::vector<SlotEntry> scratch_;  // kept between builds to avoid reallocating
+  // build_slots' scratch, kept between builds: each grain's first cross-grain pair, each pair's partner key
+  // (grain q, or grains + wall node), the wall-slot fill's cursors.
+  exec::DeviceVector<int> grain_pair_offset_, wall_cursor_;
+  exec::DeviceVector<long long> slot_key_;
   // The first kRowBuffer partners of every row, found by the counting pass of a build (kept between builds).
   static constexpr int kRowBuffer = 8;
   exec::DeviceVector<int> row_buffer_;

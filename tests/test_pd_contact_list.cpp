@@ -2,6 +2,7 @@
 // across broken bonds and walls; rebuild triggers; broken bonds added in place.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -136,6 +137,71 @@ TEST(PdContactList, MatchesBruteForceWithSelfContactAndWalls) {
   EXPECT_EQ(fg, brute_force(flat, 1.3));
 }
 
+// The grain-pair slots in their defined order, which fixes the order of the centre damping's sums: grains
+// ascending; within a grain one slot per partner key (grain q, or grains + wall node) ascending; within a
+// slot its pairs in row order (i ascending, then the row's order); each wall node's slots ascending. The
+// reference is that definition run serially on the list's rows (checked against a brute force above); the
+// build computes the slots in kernels over grains, on any thread count (and on the device).
+TEST(PdContactList, SlotsInTheirDefinedOrderOnAnyThreadCount) {
+  const PdSystem s = random_system(5, 0.12);
+  const double cutoff = 0.06, skin = 0.02;
+  ThreadGuard guard;
+  for (const int threads : {1, 2, 3}) {
+    exec::set_threads(threads);
+    PdContactList l;
+    test::build_list(l, s.nodes, s.grains, s.bonds, cutoff, skin);
+    const int ng = static_cast<int>(s.grains.size());
+    std::vector<int> grain_slot{0}, owner, partner_grain, partner_node, pair_offset{0}, pair_i, pair_j;
+    for (int p = 0; p < ng; ++p) {
+      struct Entry {
+        long key;
+        int i, j;
+      };
+      std::vector<Entry> e;
+      if (s.grains.kind[p] != 1)
+        for (int i = s.grains.node_begin[p]; i < s.grains.node_end[p]; ++i)
+          for (int k = l.offset()[i]; k < l.offset()[i + 1]; ++k) {
+            const int j = l.index()[k], q = s.nodes.grain[j];
+            if (q != p) e.push_back({s.grains.kind[q] == 1 ? long{ng} + j : long{q}, i, j});
+          }
+      std::stable_sort(e.begin(), e.end(), [](const Entry& a, const Entry& b) { return a.key < b.key; });
+      for (std::size_t a = 0; a < e.size(); ++a) {
+        if (a == 0 || e[a].key != e[a - 1].key) {
+          if (a > 0) pair_offset.push_back(static_cast<int>(pair_i.size()));
+          const int jn = e[a].key >= ng ? static_cast<int>(e[a].key - ng) : -1;
+          owner.push_back(p);
+          partner_grain.push_back(jn >= 0 ? s.nodes.grain[jn] : static_cast<int>(e[a].key));
+          partner_node.push_back(jn);
+        }
+        pair_i.push_back(e[a].i);
+        pair_j.push_back(e[a].j);
+      }
+      if (!e.empty()) pair_offset.push_back(static_cast<int>(pair_i.size()));
+      grain_slot.push_back(static_cast<int>(owner.size()));
+    }
+    std::vector<int> wall_offset(static_cast<std::size_t>(l.rows()) + 1, 0), wall_slot;
+    for (int j = 0; j < l.rows(); ++j) {
+      for (int sl = 0; sl < static_cast<int>(partner_node.size()); ++sl)
+        if (partner_node[static_cast<std::size_t>(sl)] == j) wall_slot.push_back(sl);
+      wall_offset[static_cast<std::size_t>(j) + 1] = static_cast<int>(wall_slot.size());
+    }
+    ASSERT_GT(owner.size(), 20u) << "the test needs slots";
+    ASSERT_GT(wall_slot.size(), 10u) << "and wall-node slots";
+    ASSERT_GT(pair_i.size(), owner.size()) << "and slots of several pairs";
+    EXPECT_EQ(l.slots(), static_cast<int>(owner.size())) << threads << " threads";
+    EXPECT_EQ(l.grain_slot_offset(), grain_slot);
+    EXPECT_EQ(l.slot_owner(), owner);
+    EXPECT_EQ(l.slot_partner_grain(), partner_grain);
+    EXPECT_EQ(l.slot_partner_node(), partner_node);
+    EXPECT_EQ(l.slot_pair_offset(), pair_offset);
+    EXPECT_EQ(l.slot_pair_i(), pair_i);
+    EXPECT_EQ(l.slot_pair_j(), pair_j);
+    EXPECT_EQ(l.wall_slot_offset(), wall_offset);
+    EXPECT_EQ(l.wall_slot(), wall_slot);
+    EXPECT_EQ(l.entries(), static_cast<int>(l.index().size()));
+  }
+}
+
 TEST(PdContactList, RebuildAfterHalfSkinDriftOrABrokenBond) {
   PdSystem s = random_system(4, 0.12);
   const double skin = 0.02;
@@ -188,6 +254,7 @@ TEST(PdContactList, BrokenBondsAddedInPlaceEqualAFullBuild) {
     test::build_list(fresh, at_build, s.grains, s.bonds, cutoff, skin);
     EXPECT_EQ(l.offset(), fresh.offset()) << "wave " << wave;
     EXPECT_EQ(l.index(), fresh.index()) << "wave " << wave;
+    EXPECT_EQ(l.entries(), fresh.entries()) << "wave " << wave;
     EXPECT_EQ(l.slots(), slots) << "self-contact pairs have no slots";
     EXPECT_EQ(l.slot_pair_i(), fresh.slot_pair_i());
   }
