@@ -138,35 +138,68 @@ std::vector<int> CellList::sort_order() const {
   return std::vector<int>(sorted_index_.begin(), sorted_index_.end());
 }
 
-std::vector<int> CellList::sort_order(const std::int64_t* key) const {
-  exec::to_host(cell_start_);
-  const std::vector<int> by_cell = sort_order();  // grouped by linear cell index
-  std::vector<int> order;
-  order.reserve(by_cell.size());
-  const std::array<int, 3> ax = canonical_axes(periodic_);
+namespace {
+DEBRIS_DECLARE_TARGET
+// The linear index (x fastest) of the cell at place r of the canonical visit: axis a0 fastest (d0 cells),
+// then a1 (d1 cells), then a2.
+inline int cell_at_rank(int r, int a0, int a1, int a2, int d0, int d1, int n0, int n1) {
   int c[3];
-  for (c[ax[2]] = 0; c[ax[2]] < dims_[ax[2]]; ++c[ax[2]])
-    for (c[ax[1]] = 0; c[ax[1]] < dims_[ax[1]]; ++c[ax[1]])
-      for (c[ax[0]] = 0; c[ax[0]] < dims_[ax[0]]; ++c[ax[0]]) {
-        const auto cell = static_cast<std::size_t>(cell_index(c[0], c[1], c[2]));
-        const auto first = static_cast<std::ptrdiff_t>(order.size());
-        order.insert(order.end(), by_cell.begin() + cell_start_[cell], by_cell.begin() + cell_start_[cell + 1]);
-        // Cells hold a handful of particles: insertion sort, stable.
-        for (auto it = order.begin() + first; it != order.end(); ++it) {
-          const int v = *it;
-          auto hole = it;
-          while (hole != order.begin() + first && key[*(hole - 1)] > key[v]) {
-            *hole = *(hole - 1);
-            --hole;
-          }
-          *hole = v;
-        }
-      }
-  return order;
+  c[a0] = r % d0;
+  c[a1] = (r / d0) % d1;
+  c[a2] = r / (d0 * d1);
+  return c[0] + n0 * (c[1] + n1 * c[2]);
+}
+DEBRIS_END_DECLARE_TARGET
+}  // namespace
+
+void CellList::sort_order(const std::int64_t* key, exec::DeviceVector<int>& order) const {
+  // Kernels over the cells in their canonical places: each place's particle count, the counts' prefix sum,
+  // then each cell's particles (ascending index) copied to its place and insertion-sorted by key, stably:
+  // a cell holds a handful of particles. Offload builds: where the cells are, one scalar back (the scan's).
+  const int ncell = cell_count(), n = n_;
+  order.resize(static_cast<std::size_t>(n));
+  rank_start_.resize(static_cast<std::size_t>(ncell) + 1);
+  const std::array<int, 3> ax = canonical_axes(periodic_);
+  const int a0 = ax[0], a1 = ax[1], a2 = ax[2], d0 = dims_[ax[0]], d1 = dims_[ax[1]];
+  const int n0 = dims_[0], n1 = dims_[1];
+  const int* __restrict start = cell_start_.data();
+  const int* __restrict sorted = sorted_index_.data();
+  const std::int64_t* __restrict k = key;
+  int* __restrict place = rank_start_.data();
+  int* __restrict out = order.data();
+  DEBRIS_RESIDENT(start, place);
+  DEBRIS_KERNEL
+  for (int r = 0; r < ncell; ++r) {
+    if (r == 0) place[0] = 0;
+    const int c = cell_at_rank(r, a0, a1, a2, d0, d1, n0, n1);
+    place[r + 1] = start[c + 1] - start[c];
+  }
+  inclusive_scan(place + 1, ncell, rank_scan_);
+  DEBRIS_RESIDENT(start, sorted, k, place, out);
+  DEBRIS_KERNEL
+  for (int r = 0; r < ncell; ++r) {
+    const int c = cell_at_rank(r, a0, a1, a2, d0, d1, n0, n1);
+    const int first = place[r], count = start[c + 1] - start[c];
+    for (int t = 0; t < count; ++t) {
+      const int v = sorted[start[c] + t];
+      int h = first + t;
+      for (; h > first && k[out[h - 1]] > k[v]; --h) out[h] = out[h - 1];
+      out[h] = v;
+    }
+  }
+}
+
+std::vector<int> CellList::sort_order(const std::int64_t* key) const {
+  exec::DeviceVector<std::int64_t> key_scratch;
+  exec::DeviceVector<int> order;
+  sort_order(exec::on_device(key, static_cast<std::size_t>(n_), key_scratch), order);
+  exec::to_host(order);
+  return std::vector<int>(order.begin(), order.end());
 }
 
 std::size_t CellList::bytes() const {
-  return sizeof(int) * (cell_start_.capacity() + sorted_index_.capacity() + cell_of_.capacity() + cursor_.capacity());
+  return sizeof(int) * (cell_start_.capacity() + sorted_index_.capacity() + cell_of_.capacity() + cursor_.capacity() +
+                         rank_start_.capacity());
 }
 
 }  // namespace debris

@@ -78,6 +78,9 @@ class CellList {
   /// canonical order that makes sums the same bits on any storage order, and so on any rank count
   /// (shared/design/scale-mpi.md, section 4).
   std::vector<int> sort_order(const std::int64_t* key) const;
+  /// The same order into `order`, computed where the cells are (offload builds: key on the device, order
+  /// left there; only the prefix sum's total moves).
+  void sort_order(const std::int64_t* key, exec::DeviceVector<int>& order) const;
 
   /// Offload builds: the three arrays are built on the device; a host reader brings them back first.
   void to_host() const;
@@ -106,6 +109,9 @@ class CellList {
   exec::DeviceVector<int> cell_of_;
   exec::DeviceVector<int> cursor_;              // fill position per cell, kept to avoid reallocating
   exec::DeviceVector<long long> scan_scratch_;  // the prefix sum's block sums
+  // sort_order's scratch: where each canonical place's particles start, and the prefix sum's block sums.
+  mutable exec::DeviceVector<int> rank_start_;
+  mutable exec::DeviceVector<long long> rank_scan_;
 };
 
 }  // namespace debris

@@ -73,8 +73,19 @@ void ContactHistory::remember(const Particles& p, const NeighborList& list) {
 #else
   const std::int64_t max_id = p.max_id();
 #endif
+#if defined(DEBRIS_OFFLOAD_TARGET)
+  // Cleared on the device (a kernel, not a transfer of max_id + 1 ints).
+  resize_for_overwrite(old_row_of_id_, static_cast<std::size_t>(max_id + 1));
+  {
+    int* __restrict clear = old_row_of_id_.data();
+    const int ids = static_cast<int>(max_id + 1);
+    DEBRIS_RESIDENT(clear);
+    DEBRIS_KERNEL
+    for (int k = 0; k < ids; ++k) clear[k] = -1;
+  }
+#else
   old_row_of_id_.assign(static_cast<std::size_t>(max_id + 1), -1);
-  exec::to_device(old_row_of_id_);
+#endif
   const int* offset = list.offset().data();
   const int* index = list.index().data();
   const std::int64_t* id = p.id.data();

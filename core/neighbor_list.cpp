@@ -33,7 +33,8 @@ void NeighborList::set_max_size_classes(int classes) {
 
 void NeighborList::bin_classes(const BoxView& box, const Particles& p, const double* reach) {
   const int n = static_cast<int>(p.size()), k = classes_.count;
-  // The binning reads positions and radii on the host (the radii came back in build()).
+  // The binning reads positions and radii on the host.
+  exec::to_host(p.radius);
   exec::to_host(p.x);
   exec::to_host(p.y);
   exec::to_host(p.z);

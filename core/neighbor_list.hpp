@@ -298,10 +298,9 @@ void NeighborList::build(const BoxView& box, const Particles& p, Cutoff cutoff, 
   check(box, p, max_cutoff, skin, p.size() > 0 ? cutoff(r_max, r_max) : 0.0);
   const int n = static_cast<int>(p.size());
   offset_.resize(static_cast<std::size_t>(n) + 1);
-  // The classes are found on the host: offload builds bring the radii back first (a re-sort permutes the
-  // device copies only and leaves the host's stale).
-  exec::to_host(p.radius);
-  classes_ = SizeClasses::of(p.radius.data(), n, max_classes_);
+  // The classes are found where the radii are (offload builds: reductions on the device; a re-sort permutes
+  // the device copies only and leaves the host's stale).
+  classes_ = SizeClasses::of_resident(p.radius.data(), n, max_classes_);
 
   const double* __restrict x = p.x.data();
   const double* __restrict y = p.y.data();

@@ -51,16 +51,22 @@ void gather_on_device(Column& col, const int* __restrict o, int n) {
 
 void Particles::permute_resident(const std::vector<int>& order) {
 #if defined(DEBRIS_OFFLOAD_TARGET)
-  // On the device: each column gathered into a scratch column, whose buffer then swaps in.
-  const int n = static_cast<int>(order.size());
   exec::DeviceVector<int> ord(order.begin(), order.end());
   exec::to_device(ord);
-  const int* o = ord.data();
-  for_each_column([n, o](const char*, auto& col) { gather_on_device(col, o, n); });
+  permute_resident(ord);
 #else
   permute(order);
 #endif
 }
+
+#if defined(DEBRIS_OFFLOAD_TARGET)
+void Particles::permute_resident(const exec::DeviceVector<int>& order) {
+  // On the device: each column gathered into a scratch column, whose buffer then swaps in.
+  const int n = static_cast<int>(order.size());
+  const int* o = order.data();
+  for_each_column([n, o](const char*, auto& col) { gather_on_device(col, o, n); });
+}
+#endif
 
 void to_host(const Particles& p) {
   p.for_each_column([](const char*, const auto& col) { exec::to_host(col); });

@@ -59,6 +59,10 @@ class Particles {
   /// The same on the device copies (offload builds: a gather kernel per column, order copied there; the
   /// host copies are left meaningless until to_host). In host builds this is permute().
   void permute_resident(const std::vector<int>& order);
+#if defined(DEBRIS_OFFLOAD_TARGET)
+  /// The same with the order already on the device (host builds: DeviceVector is std::vector, the above).
+  void permute_resident(const exec::DeviceVector<int>& order);
+#endif
 
   /// Deletes every particle i with remove[i] != 0, keeping the others in their order (all columns).
   /// Returns the number removed.

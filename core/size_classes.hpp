@@ -24,6 +24,8 @@ struct SizeClasses {
   /// Classes for radii r[0..n): count = 1 + the number of factors kRatio from the smallest radius to the
   /// largest, capped at max_classes (>= 1). A narrow distribution (r_max < 2 r_min) gives one class.
   static SizeClasses of(const double* r, int n, int max_classes);
+  /// The same classes found where r is (offload builds: r on the device, reductions there, scalars back).
+  static SizeClasses of_resident(const double* r, int n, int max_classes);
   int classify(double radius) const {
     int c = 0;
     while (c + 1 < count && radius >= lower[c + 1]) ++c;

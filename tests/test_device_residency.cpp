@@ -166,6 +166,49 @@ TEST(DeviceResidency, DemRunOnTheDeviceEqualsHostFallback) {
               t.to_host_bytes);
 }
 
+// Issue 30: a DEM list build runs where the particles are: wrap, the canonical re-sort (the cell counting
+// sort, the order by cell and id, the gather of every column), the neighbour search and its prefix sum,
+// the history's carry-over. 60 rebuilds of the sheared block move no array through the named transfer
+// points (only reductions' and scans' scalars); until 2026-12-05 each re-sort brought the ids and the
+// cell list back and sent the order out. The state after them equals host fallback's bit for bit.
+TEST(DeviceResidency, DemListBuildsMoveOnlyScalars) {
+  if (!device_with_own_memory()) GTEST_SKIP() << kNoDevice;
+  const int builds = 60;
+  const auto run = [&](exec::TransferStats* counted) {
+    DemSimulation sim = test::sheared_dem_system();
+    sim.run(20);
+    for (int b = 0; b < builds; ++b) {
+      exec::reset_transfer_stats();
+      sim.rebuild_neighbors();
+      if (counted) {  // the rebuild's own transfers (a step moves its group sums and views: not counted here)
+        const exec::TransferStats t = exec::transfer_stats();
+        counted->to_host_calls += t.to_host_calls;
+        counted->to_device_calls += t.to_device_calls;
+        counted->to_host_bytes += t.to_host_bytes;
+        counted->to_device_bytes += t.to_device_bytes;
+      }
+      sim.run(2);
+    }
+    DemResult r;
+    r.p = sim.particles();
+    r.hx = sim.history().hx;
+    r.rebuilds = sim.times().rebuilds;
+    return r;
+  };
+  exec::TransferStats t;
+  const DemResult dev = run(&t);
+  std::printf("DEM %zu particles, %d rebuilds: %ld transfers to the device (%.0f B), %ld to the host (%.0f B)\n",
+              dev.p.size(), builds, t.to_device_calls, t.to_device_bytes, t.to_host_calls, t.to_host_bytes);
+  EXPECT_EQ(t.to_host_calls + t.to_device_calls, 0) << "a rebuild copies no array";
+  const DemResult host = on_initial_device([&] { return run(nullptr); });
+  ASSERT_GE(dev.rebuilds, builds);
+  EXPECT_EQ(dev.rebuilds, host.rebuilds);
+  EXPECT_EQ(dev.p.id, host.p.id) << "the same canonical order";
+  EXPECT_EQ(dev.p.x, host.p.x);
+  EXPECT_EQ(dev.p.vy, host.p.vy);
+  EXPECT_EQ(dev.hx, host.hx);
+}
+
 // The executable: thermo rows, dump frames and the checkpoint come from the device's state through the
 // runner's transfer points; the same input on the initial device (OMP_DEFAULT_DEVICE) must give the same files.
 // Runs `exe -i input` and returns the bytes per step the runner reports between host and device (outputs

@@ -277,6 +277,31 @@ TEST(NeighborList, SizeClassesAreInputChecked) {
   EXPECT_EQ(SizeClasses::of(r, 2, SizeClasses::kMax).count, 1);  // 1.9 / 1.0 < 2: one grid
 }
 
+// The classes a build finds where the radii are (on the device in offload builds: two reductions and, with
+// several classes, a count and a maximum per class) are the host count's, for every cap on the classes.
+TEST(NeighborList, SizeClassesWhereTheRadiiAreEqualTheHostCount) {
+  std::mt19937_64 rng(9);
+  std::lognormal_distribution<double> size(0.0, 0.8);
+  exec::DeviceVector<double> r(5000);
+  for (double& v : r) v = 0.5 * size(rng);
+  // Radii exactly on the first two bounds (2 and 4 times the smallest): lower[c] <= r is class c.
+  const auto smallest = std::min_element(r.begin(), r.end()) - r.begin();
+  r[smallest == 17 ? 18 : 17] = 2.0 * r[static_cast<std::size_t>(smallest)];
+  r[smallest == 19 ? 20 : 19] = 4.0 * r[static_cast<std::size_t>(smallest)];
+  exec::to_device(r);
+  const int n = static_cast<int>(r.size());
+  for (int cap = 1; cap <= SizeClasses::kMax; ++cap) {
+    const SizeClasses host = SizeClasses::of(r.data(), n, cap), here = SizeClasses::of_resident(r.data(), n, cap);
+    ASSERT_EQ(here.count, host.count) << "cap " << cap;
+    EXPECT_EQ(here.count, cap) << "the radii span more than a factor 2^3";
+    for (int c = 0; c < host.count; ++c) {
+      EXPECT_EQ(here.lower[c], host.lower[c]) << "cap " << cap << ", class " << c;
+      EXPECT_EQ(here.members[c], host.members[c]) << "cap " << cap << ", class " << c;
+      EXPECT_EQ(here.r_max[c], host.r_max[c]) << "cap " << cap << ", class " << c;
+    }
+  }
+}
+
 TEST(NeighborList, RebuildOnlyAfterMovingMoreThanHalfTheSkin) {
   System s = random_system(500, {0, 0, 0}, {20, 20, 20}, {true, true, true}, 21);
   s.p.x[0] = 20.0 - 0.01;  // next to the periodic face

@@ -157,9 +157,9 @@ void DemSimulation::rebuild(const std::vector<int>* order) {
   }
   const PassTimer timer(times_.neighbours);
   particles_to_device();
-  // Offload builds: wrap, re-sort (a gather per column), neighbour search and history carry-over run on the
-  // device, as do the cell counting sorts and the row prefix sum; the re-sort's order by id within each cell
-  // and the size-class binning run on the host (n ints each way).
+  // Offload builds: wrap, re-sort (its order and a gather per column), neighbour search and history
+  // carry-over run on the device, as do the cell counting sorts and the row prefix sum; the size-class
+  // binning of polydisperse systems runs on the host (n ints each way).
   if (list_.rows() > 0) history_.remember(p_, list_);
   box_.wrap_resident(p_);
   if (order) {
@@ -170,9 +170,10 @@ void DemSimulation::rebuild(const std::vector<int>* order) {
                   max_cutoff_ + skin_);
     // By cell, then by id: the canonical order, which the positions and ids alone decide, so every
     // per-particle sum (rows in increasing index) has the same terms in the same order however the particles
-    // were stored before (offload builds: the ids come back to the host for it, n int64 per build).
-    exec::to_host(p_.id);
-    p_.permute_resident(sorter_.sort_order(p_.id.data()));
+    // were stored before (offload builds: computed and applied on the device).
+    exec::DeviceVector<int> order;  // transient, as the gather's scratch columns are
+    sorter_.sort_order(p_.id.data(), order);
+    p_.permute_resident(order);
     ++layout_generation_;
   }
   list_.build(box_.view(), p_, CohesiveCutoff{coef_}, max_cutoff_, skin_,
