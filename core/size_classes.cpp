@@ -5,19 +5,26 @@
 
 namespace debris {
 
-SizeClasses SizeClasses::of(const double* r, int n, int max_classes) {
+namespace {
+// The class bounds from the extreme radii: powers of kRatio times r_min, so they do not depend on the
+// storage order (nor on where the extremes were found).
+SizeClasses bounded(double r_min, double r_max, int max_classes) {
   SizeClasses s;
-  if (n <= 0) return s;
-  const double r_min = *std::min_element(r, r + n), r_max = *std::max_element(r, r + n);
-  const int cap = std::clamp(max_classes, 1, kMax);
+  const int cap = std::clamp(max_classes, 1, SizeClasses::kMax);
   s.count = 1;
   s.lower[0] = r_min;
-  // Bounds are powers of kRatio times r_min, so they do not depend on the storage order.
-  double bound = r_min * kRatio;
+  double bound = r_min * SizeClasses::kRatio;
   while (s.count < cap && r_max >= bound) {
     s.lower[s.count++] = bound;
-    bound *= kRatio;
+    bound *= SizeClasses::kRatio;
   }
+  return s;
+}
+}  // namespace
+
+SizeClasses SizeClasses::of(const double* r, int n, int max_classes) {
+  if (n <= 0) return SizeClasses{};
+  SizeClasses s = bounded(*std::min_element(r, r + n), *std::max_element(r, r + n), max_classes);
   for (int i = 0; i < n; ++i) {
     const int c = s.classify(r[i]);
     ++s.members[c];
@@ -27,23 +34,14 @@ SizeClasses SizeClasses::of(const double* r, int n, int max_classes) {
 }
 
 SizeClasses SizeClasses::of_resident(const double* r, int n, int max_classes) {
-  SizeClasses s;
-  if (n <= 0) return s;
+  if (n <= 0) return SizeClasses{};
   double r_min = HUGE_VAL, r_max = 0.0;
   DEBRIS_RESIDENT(r);
   DEBRIS_KERNEL_MIN(r_min)
   for (int i = 0; i < n; ++i) r_min = r[i] < r_min ? r[i] : r_min;
   DEBRIS_KERNEL_MAX(r_max)
   for (int i = 0; i < n; ++i) r_max = r[i] > r_max ? r[i] : r_max;
-  // The bounds from the two extremes exactly as of() finds them.
-  const int cap = std::clamp(max_classes, 1, kMax);
-  s.count = 1;
-  s.lower[0] = r_min;
-  double bound = r_min * kRatio;
-  while (s.count < cap && r_max >= bound) {
-    s.lower[s.count++] = bound;
-    bound *= kRatio;
-  }
+  SizeClasses s = bounded(r_min, r_max, max_classes);
   if (s.count == 1) {  // one class holds everything: no further pass
     s.members[0] = n;
     s.r_max[0] = r_max;
