@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/device_counting_sort.hpp"
 #include "core/device_scan.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
@@ -83,40 +84,9 @@ void CellList::build(const BoxView& box, const double* x, const double* y, const
   }
 
 #if defined(DEBRIS_OFFLOAD_TARGET)
-  // On the device: count per cell (atomic adds: the counts do not depend on their order), prefix sum, fill
-  // through atomic cursors (any order within a cell), then each cell's few indices sorted ascending: the
-  // serial counting sort's result, with one scalar (the scan's total) between host and device.
-  DEBRIS_RESIDENT(cell, start, sorted, cursor);
-  DEBRIS_KERNEL
-  for (int c = 0; c <= ncell; ++c) start[c] = 0;
-  DEBRIS_KERNEL
-  for (int i = 0; i < n; ++i) {
-    DEBRIS_PRAGMA(omp atomic update)
-    ++start[cell[i] + 1];
-  }
-  inclusive_scan(start + 1, ncell, scan_scratch_);
-  DEBRIS_KERNEL
-  for (int c = 0; c < ncell; ++c) cursor[c] = start[c];
-  DEBRIS_KERNEL
-  for (int i = 0; i < n; ++i) {
-    int slot;
-    DEBRIS_PRAGMA(omp atomic capture)
-    slot = cursor[cell[i]]++;
-    sorted[slot] = i;
-  }
-  DEBRIS_KERNEL
-  for (int c = 0; c < ncell; ++c) {
-    // A cell holds a handful of particles: insertion sort.
-    for (int k = start[c] + 1; k < start[c + 1]; ++k) {
-      const int v = sorted[k];
-      int h = k;
-      while (h > start[c] && sorted[h - 1] > v) {
-        sorted[h] = sorted[h - 1];
-        --h;
-      }
-      sorted[h] = v;
-    }
-  }
+  // On the device: the serial counting sort's result, with one scalar (the scan's total) between host and
+  // device.
+  counting_sort_by_bucket(cell, n, ncell, start, cursor, sorted, scan_scratch_);
 #else
   // Counting sort, serial: a small part of a rebuild, and deterministic.
   std::fill(start, start + ncell + 1, 0);

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/bond_list.hpp"
+#include "core/device_counting_sort.hpp"
 #include "core/device_scan.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
@@ -376,47 +377,13 @@ void PdContactList::build_slots(const PdNodes& nodes, const PdGrains& grains) {
     }
   }
 
-  // Slots by partner wall node, in slot order, for the reaction on the wall nodes: counts (atomic adds),
-  // offsets, a fill through atomic cursors (any order), then each wall node's few slots sorted ascending.
+  // Slots by partner wall node, in slot order, for the reaction on the wall nodes.
   wall_slot_offset_.resize(static_cast<std::size_t>(n) + 1);
   wall_cursor_.resize(static_cast<std::size_t>(n));
-  int* __restrict wall_start = wall_slot_offset_.data();
-  int* __restrict cursor = wall_cursor_.data();
-  DEBRIS_RESIDENT(partner_node, wall_start);
-  DEBRIS_KERNEL
-  for (int j = 0; j <= n; ++j) wall_start[j] = 0;
-  DEBRIS_KERNEL
-  for (int s = 0; s < ns; ++s) {
-    const int jn = partner_node[s];
-    if (jn >= 0) {
-      DEBRIS_PRAGMA(omp atomic update)
-      ++wall_start[jn + 1];
-    }
-  }
-  const long long wall_slots = inclusive_scan(wall_start + 1, n, scan_scratch_);
+  wall_slot_.resize(static_cast<std::size_t>(ns));  // at most one per slot; trimmed to the count below
+  const long long wall_slots = counting_sort_by_bucket(partner_node, ns, n, wall_slot_offset_.data(),
+                                                       wall_cursor_.data(), wall_slot_.data(), scan_scratch_);
   wall_slot_.resize(static_cast<std::size_t>(wall_slots));
-  int* __restrict by_wall = wall_slot_.data();
-  DEBRIS_RESIDENT(partner_node, wall_start, cursor, by_wall);
-  DEBRIS_KERNEL
-  for (int j = 0; j < n; ++j) cursor[j] = wall_start[j];
-  DEBRIS_KERNEL
-  for (int s = 0; s < ns; ++s) {
-    const int jn = partner_node[s];
-    if (jn >= 0) {
-      int at;
-      DEBRIS_PRAGMA(omp atomic capture)
-      at = cursor[jn]++;
-      by_wall[at] = s;
-    }
-  }
-  DEBRIS_KERNEL
-  for (int j = 0; j < n; ++j)
-    for (int a = wall_start[j] + 1; a < wall_start[j + 1]; ++a) {
-      const int v = by_wall[a];
-      int h = a;
-      for (; h > wall_start[j] && by_wall[h - 1] > v; --h) by_wall[h] = by_wall[h - 1];
-      by_wall[h] = v;
-    }
 }
 
 void PdContactList::to_host() const {
