@@ -32,38 +32,68 @@ void NeighborList::set_max_size_classes(int classes) {
 }
 
 void NeighborList::bin_classes(const BoxView& box, const Particles& p, const double* reach) {
+  // Every array here is where the kernels run (offload builds: on the device); the host sees only the class
+  // counts (from SizeClasses::of_resident) and each grid's dimensions, and a build moves scalars only.
   const int n = static_cast<int>(p.size()), k = classes_.count;
-  // The binning reads positions and radii on the host.
-  exec::to_host(p.radius);
-  exec::to_host(p.x);
-  exec::to_host(p.y);
-  exec::to_host(p.z);
-  // Members of each class in increasing index (a counting sort by class), so that every cell of every grid
-  // lists its particles in increasing index, as the single grid does (the half list relies on it).
+  const std::size_t un = static_cast<std::size_t>(n);
   int first[SizeClasses::kMax + 1] = {};
   for (int c = 0; c < k; ++c) first[c + 1] = first[c] + classes_.members[c];
-  class_of_.resize(static_cast<std::size_t>(n));
-  members_.resize(static_cast<std::size_t>(n));
-  member_x_.resize(static_cast<std::size_t>(n));
-  member_y_.resize(static_cast<std::size_t>(n));
-  member_z_.resize(static_cast<std::size_t>(n));
-  int fill[SizeClasses::kMax];
-  std::copy(first, first + k, fill);
+  resize_for_overwrite(class_of_, un);
+  resize_for_overwrite(members_, un);
+  resize_for_overwrite(member_x_, un);
+  resize_for_overwrite(member_y_, un);
+  resize_for_overwrite(member_z_, un);
+  const double* __restrict r = p.radius.data();
+  const double* __restrict x = p.x.data();
+  const double* __restrict y = p.y.data();
+  const double* __restrict z = p.z.data();
+  int* __restrict cls = class_of_.data();
+  // SizeClasses::classify, with the bounds as scalars (a kernel would map an array).
+  const double l1 = k > 1 ? classes_.lower[1] : 0, l2 = k > 2 ? classes_.lower[2] : 0, l3 = k > 3 ? classes_.lower[3] : 0;
+  static_assert(SizeClasses::kMax == 4, "the classify kernel below names kMax - 1 bounds");
+  DEBRIS_RESIDENT(r, cls);
+  DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
-    const std::size_t ui = static_cast<std::size_t>(i);
-    const int c = classes_.classify(p.radius[ui]);
-    class_of_[ui] = c;
-    const std::size_t at = static_cast<std::size_t>(fill[c]++);
-    members_[at] = i;
-    member_x_[at] = p.x[ui];
-    member_y_[at] = p.y[ui];
-    member_z_[at] = p.z[ui];
+    const double ri = r[i];
+    int c = 0;
+    if (c + 1 < k && ri >= l1) ++c;
+    if (c == 1 && c + 1 < k && ri >= l2) ++c;
+    if (c == 2 && c + 1 < k && ri >= l3) ++c;
+    cls[i] = c;
+  }
+  // Members of each class in increasing index (a stable partition: one prefix sum of "is in class c" per
+  // class), so that every cell of every grid lists its particles in increasing index, as the single grid
+  // does (the half list relies on it). Their coordinates are gathered beside them.
+  exec::DeviceVector<int> rank;  // transient: n ints for the duration of the binning
+  resize_for_overwrite(rank, un);
+  int* __restrict rk = rank.data();
+  int* __restrict mem = members_.data();
+  double* __restrict mx = member_x_.data();
+  double* __restrict my = member_y_.data();
+  double* __restrict mz = member_z_.data();
+  for (int c = 0; c < k; ++c) {
+    if (classes_.members[c] == 0) continue;
+    DEBRIS_RESIDENT(cls, rk);
+    DEBRIS_KERNEL
+    for (int i = 0; i < n; ++i) rk[i] = cls[i] == c ? 1 : 0;
+    const long long in_class = inclusive_scan(rk, n, scan_scratch_);
+    if (in_class != classes_.members[c])
+      throw std::logic_error("NeighborList::bin_classes: class " + std::to_string(c) + " holds " +
+                             std::to_string(in_class) + " particles, its count says " +
+                             std::to_string(classes_.members[c]));
+    const int base = first[c] - 1;  // rk[i] is 1-based within the class
+    DEBRIS_RESIDENT(cls, rk, mem, mx, my, mz, x, y, z);
+    DEBRIS_KERNEL
+    for (int i = 0; i < n; ++i) {
+      if (cls[i] != c) continue;
+      const int at = base + rk[i];
+      mem[at] = i;
+      mx[at] = x[i];
+      my[at] = y[i];
+      mz[at] = z[i];
+    }
   }
 
-  exec::to_device(class_of_);
-  exec::to_device(member_x_);
-  exec::to_device(member_y_);
-  exec::to_device(member_z_);
   // Grid (a, c): class c's members in cells at least reach(a, c) wide.
   class_cells_.resize(static_cast<std::size_t>(k * k));
   grids_ = ClassGrids{};
@@ -79,15 +109,17 @@ void NeighborList::bin_classes(const BoxView& box, const Particles& p, const dou
       starts += static_cast<std::size_t>(cl.cell_count()) + 1;
       sorted += static_cast<std::size_t>(classes_.members[c]);
     }
-  // All grids in two flat arrays; cell starts index the shared particle array directly.
-  grid_start_.resize(starts);
-  grid_sorted_.resize(sorted);
+  // All grids in two flat arrays; cell starts index the shared particle array directly, and each grid's
+  // particle indices become particle indices (not member ranks).
+  resize_for_overwrite(grid_start_, starts);
+  resize_for_overwrite(grid_sorted_, sorted);
+  int* __restrict gs = grid_start_.data();
+  int* __restrict gi = grid_sorted_.data();
   int start_base = 0, sorted_base = 0;
   for (int a = 0; a < k; ++a)
     for (int c = 0; c < k; ++c) {
       if (classes_.members[a] == 0 || classes_.members[c] == 0) continue;
       const CellList& cl = class_cells_[static_cast<std::size_t>(a * k + c)];
-      cl.to_host();  // the grids are joined on the host (offload builds: n ints back per grid)
       ClassGrid& g = grids_.g[a * k + c];
       const std::array<int, 3> dims = cl.dims();
       const std::array<double, 3> edge = cl.cell_edge();
@@ -97,12 +129,19 @@ void NeighborList::bin_classes(const BoxView& box, const Particles& p, const dou
       g.n2 = dims[2];
       for (int d = 0; d < 3; ++d) g.inv_edge[d] = 1.0 / edge[d];  // as CellList::build bins
       g.reach2 = reach[a * k + c] * reach[a * k + c];
-      for (int v : cl.cell_start()) grid_start_[static_cast<std::size_t>(start_base++)] = v + sorted_base;
-      const int* m = members_.data() + first[c];
-      for (int v : cl.sorted_index()) grid_sorted_[static_cast<std::size_t>(sorted_base++)] = m[v];
+      const int cells1 = cl.cell_count() + 1, members = classes_.members[c], s0 = start_base, i0 = sorted_base;
+      const int* __restrict cs = cl.cell_start().data();
+      const int* __restrict si = cl.sorted_index().data();
+      const int* __restrict m = mem + first[c];
+      DEBRIS_RESIDENT(cs, gs);
+      DEBRIS_KERNEL
+      for (int j = 0; j < cells1; ++j) gs[s0 + j] = cs[j] + i0;
+      DEBRIS_RESIDENT(si, m, gi);
+      DEBRIS_KERNEL
+      for (int j = 0; j < members; ++j) gi[i0 + j] = m[si[j]];
+      start_base += cells1;
+      sorted_base += members;
     }
-  exec::to_device(grid_start_);
-  exec::to_device(grid_sorted_);
 }
 
 bool NeighborList::inside_periodic_box(const BoxView& box, const Particles& p) {

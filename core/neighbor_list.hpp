@@ -225,9 +225,9 @@ class NeighborList {
   int max_classes_ = SizeClasses::kMax;
   SizeClasses classes_;
   ClassGrids grids_;
-  // Offload builds: the binning runs on the host (to_host of x, y, z, radius), its arrays go to the device.
+  // Offload builds: all on the device, where the binning runs.
   exec::DeviceVector<int> class_of_;
-  std::vector<int> members_;
+  exec::DeviceVector<int> members_;
   exec::DeviceVector<double> member_x_, member_y_, member_z_;
   std::vector<CellList> class_cells_;
   exec::DeviceVector<int> grid_start_, grid_sorted_;

@@ -171,11 +171,13 @@ TEST(DeviceResidency, DemRunOnTheDeviceEqualsHostFallback) {
 // the history's carry-over. 60 rebuilds of the sheared block move no array through the named transfer
 // points (only reductions' and scans' scalars); until 2026-12-05 each re-sort brought the ids and the
 // cell list back and sent the order out. The state after them equals host fallback's bit for bit.
-TEST(DeviceResidency, DemListBuildsMoveOnlyScalars) {
-  if (!device_with_own_memory()) GTEST_SKIP() << kNoDevice;
+// 60 list builds of the sheared system (`wide`: a third of the free particles at 0.45 of the others' radius,
+// two size classes, so each build bins the classes and joins their grids): only the kernels' scalars move.
+static void expect_dem_list_builds_move_only_scalars(bool wide) {
   const int builds = 60;
   const auto run = [&](exec::TransferStats* counted) {
-    DemSimulation sim = test::sheared_dem_system();
+    DemSimulation sim = test::sheared_dem_system(PairPass::automatic, wide);
+    EXPECT_EQ(sim.neighbors().size_classes().count, wide ? 2 : 1);
     sim.run(20);
     for (int b = 0; b < builds; ++b) {
       exec::reset_transfer_stats();
@@ -207,6 +209,16 @@ TEST(DeviceResidency, DemListBuildsMoveOnlyScalars) {
   EXPECT_EQ(dev.p.x, host.p.x);
   EXPECT_EQ(dev.p.vy, host.p.vy);
   EXPECT_EQ(dev.hx, host.hx);
+}
+
+TEST(DeviceResidency, DemListBuildsMoveOnlyScalars) {
+  if (!device_with_own_memory()) GTEST_SKIP() << kNoDevice;
+  expect_dem_list_builds_move_only_scalars(false);
+}
+
+TEST(DeviceResidency, PolydisperseDemListBuildsMoveOnlyScalars) {
+  if (!device_with_own_memory()) GTEST_SKIP() << kNoDevice;
+  expect_dem_list_builds_move_only_scalars(true);
 }
 
 // The executable: thermo rows, dump frames and the checkpoint come from the device's state through the
