@@ -158,8 +158,8 @@ void DemSimulation::rebuild(const std::vector<int>* order) {
   const PassTimer timer(times_.neighbours);
   particles_to_device();
   // Offload builds: wrap, re-sort (its order and a gather per column), neighbour search and history
-  // carry-over run on the device, as do the cell counting sorts and the row prefix sum; the size-class
-  // binning of polydisperse systems runs on the host (n ints each way).
+  // carry-over run on the device, as do the cell counting sorts, the size-class binning of polydisperse
+  // systems and the row prefix sum: a build moves scalars only.
   if (list_.rows() > 0) history_.remember(p_, list_);
   box_.wrap_resident(p_);
   if (order) {
@@ -229,7 +229,9 @@ void DemSimulation::recompute_forces() {
 double DemSimulation::bytes_per_particle() const {
   const double n = static_cast<double>(p_.size());
   return static_cast<double>(Particles::bytes_per_particle()) +
-         static_cast<double>(list_.bytes() + history_.bytes() + table_.bytes() + scratch_.bytes()) / n;
+         static_cast<double>(list_.bytes() + sorter_.bytes() + history_.bytes() + table_.bytes() + scratch_.bytes() +
+                             owned_.capacity() + sizeof(std::int64_t) * ids_in_order_.capacity()) /
+             n;
 }
 
 void DemSimulation::step() {

@@ -178,7 +178,8 @@ class DemSimulation {
   void recompute_forces();
   /// The contact pass in use (never automatic).
   PairPass pair_pass() const { return pass_; }
-  /// Bytes held per particle by particles, neighbour list, history, pair table and pass scratch.
+  /// Bytes held per particle by particles, neighbour list, re-sort cell list, history, pair table, pass scratch
+  /// and the id bookkeeping of runs cut among ranks: all the engine holds per particle.
   double bytes_per_particle() const;
   /// Changes the global damping fraction (relaxation phases); check_global_damping() first.
   void set_global_damping(double fraction);
