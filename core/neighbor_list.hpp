@@ -200,6 +200,9 @@ class NeighborList {
   double skin() const { return skin_; }
   /// The single grid (size_classes().count == 1); with size classes it is not built.
   const CellList& cells() const { return cells_; }
+  /// The list's cell list lent as scratch to a caller that bins the same particles just before the next
+  /// build() (the DEM re-sort by cell): build() bins them again, so the engine holds one grid, not two.
+  CellList& cells_until_next_build() { return cells_; }
   std::size_t bytes() const;  // memory held, cell lists included
 
  private:

@@ -166,13 +166,14 @@ void DemSimulation::rebuild(const std::vector<int>* order) {
     p_.permute_resident(*order);
     ++layout_generation_;
   } else if (settings_.sort_by_cell) {
-    sorter_.build(box_.view(), p_.x.data(), p_.y.data(), p_.z.data(), static_cast<int>(p_.size()),
-                  max_cutoff_ + skin_);
+    CellList& sorter = list_.cells_until_next_build();  // list_.build() below re-bins the new order
+    sorter.build(box_.view(), p_.x.data(), p_.y.data(), p_.z.data(), static_cast<int>(p_.size()),
+                 max_cutoff_ + skin_);
     // By cell, then by id: the canonical order, which the positions and ids alone decide, so every
     // per-particle sum (rows in increasing index) has the same terms in the same order however the particles
     // were stored before (offload builds: computed and applied on the device).
     exec::DeviceVector<int> order;  // transient, as the gather's scratch columns are
-    sorter_.sort_order(p_.id.data(), order);
+    sorter.sort_order(p_.id.data(), order);
     p_.permute_resident(order);
     ++layout_generation_;
   }
@@ -229,7 +230,7 @@ void DemSimulation::recompute_forces() {
 double DemSimulation::bytes_per_particle() const {
   const double n = static_cast<double>(p_.size());
   return static_cast<double>(Particles::bytes_per_particle()) +
-         static_cast<double>(list_.bytes() + sorter_.bytes() + history_.bytes() + table_.bytes() + scratch_.bytes() +
+         static_cast<double>(list_.bytes() + history_.bytes() + table_.bytes() + scratch_.bytes() +
                              owned_.capacity() + sizeof(std::int64_t) * ids_in_order_.capacity()) /
              n;
 }

@@ -178,8 +178,8 @@ class DemSimulation {
   void recompute_forces();
   /// The contact pass in use (never automatic).
   PairPass pair_pass() const { return pass_; }
-  /// Bytes held per particle by particles, neighbour list, re-sort cell list, history, pair table, pass scratch
-  /// and the id bookkeeping of runs cut among ranks: all the engine holds per particle.
+  /// Bytes held per particle by particles, neighbour list (whose cell list the re-sort borrows), history, pair
+  /// table, pass scratch and the id bookkeeping of runs cut among ranks: all the engine holds per particle.
   double bytes_per_particle() const;
   /// Changes the global damping fraction (relaxation phases); check_global_damping() first.
   void set_global_damping(double fraction);
@@ -288,7 +288,6 @@ class DemSimulation {
   CohesiveCoefficients coef_{};
   StabilityLimits limits_{};
   NeighborList list_;
-  CellList sorter_;
   ContactHistory history_;
   CohesivePairTable table_;
   HalfPassScratch scratch_;
