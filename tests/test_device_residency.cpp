@@ -171,8 +171,8 @@ TEST(DeviceResidency, DemRunOnTheDeviceEqualsHostFallback) {
 // the history's carry-over. 60 rebuilds of the sheared block move no array through the named transfer
 // points (only reductions' and scans' scalars); until 2026-12-05 each re-sort brought the ids and the
 // cell list back and sent the order out. The state after them equals host fallback's bit for bit.
-// 60 list builds of the sheared system (`wide`: a third of the free particles at 0.45 of the others' radius,
-// two size classes, so each build bins the classes and joins their grids): only the kernels' scalars move.
+// `wide`: a third of the free particles at 0.45 of the others' radius, two size classes, so each build also
+// bins the classes and joins their grids (until then on the host, positions and radii back every build).
 static void expect_dem_list_builds_move_only_scalars(bool wide) {
   const int builds = 60;
   const auto run = [&](exec::TransferStats* counted) {
