@@ -48,19 +48,10 @@ void NeighborList::bin_classes(const BoxView& box, const Particles& p, const dou
   const double* __restrict y = p.y.data();
   const double* __restrict z = p.z.data();
   int* __restrict cls = class_of_.data();
-  // SizeClasses::classify, with the bounds as scalars (a kernel would map an array).
-  const double l1 = k > 1 ? classes_.lower[1] : 0, l2 = k > 2 ? classes_.lower[2] : 0, l3 = k > 3 ? classes_.lower[3] : 0;
-  static_assert(SizeClasses::kMax == 4, "the classify kernel below names kMax - 1 bounds");
+  const double l1 = classes_.lower[1], l2 = classes_.lower[2], l3 = classes_.lower[3];
   DEBRIS_RESIDENT(r, cls);
   DEBRIS_KERNEL
-  for (int i = 0; i < n; ++i) {
-    const double ri = r[i];
-    int c = 0;
-    if (c + 1 < k && ri >= l1) ++c;
-    if (c == 1 && c + 1 < k && ri >= l2) ++c;
-    if (c == 2 && c + 1 < k && ri >= l3) ++c;
-    cls[i] = c;
-  }
+  for (int i = 0; i < n; ++i) cls[i] = size_class(r[i], k, l1, l2, l3);
   // Members of each class in increasing index (a stable partition: one prefix sum of "is in class c" per
   // class), so that every cell of every grid lists its particles in increasing index, as the single grid
   // does (the half list relies on it). Their coordinates are gathered beside them.

@@ -13,6 +13,19 @@
 
 namespace debris {
 
+DEBRIS_DECLARE_TARGET
+/// The class of a radius: the largest c < count with radius >= lower_c (class 0 open below), the bounds
+/// lower_1..3 passed as scalars so that a kernel can call it without mapping an array. The one rule that
+/// SizeClasses::classify and the device binning (NeighborList) both use.
+inline int size_class(double radius, int count, double lower1, double lower2, double lower3) {
+  int c = 0;
+  if (count > 1 && radius >= lower1) c = 1;
+  if (c == 1 && count > 2 && radius >= lower2) c = 2;
+  if (c == 2 && count > 3 && radius >= lower3) c = 3;
+  return c;
+}
+DEBRIS_END_DECLARE_TARGET
+
 struct SizeClasses {
   static constexpr int kMax = 4;          // grids: kMax^2 at most, each a counting sort of one class
   static constexpr double kRatio = 2.0;   // radius ratio covered by one class
@@ -26,11 +39,8 @@ struct SizeClasses {
   static SizeClasses of(const double* r, int n, int max_classes);
   /// The same classes found where r is (offload builds: r on the device, reductions there, scalars back).
   static SizeClasses of_resident(const double* r, int n, int max_classes);
-  int classify(double radius) const {
-    int c = 0;
-    while (c + 1 < count && radius >= lower[c + 1]) ++c;
-    return c;
-  }
+  static_assert(kMax == 4, "size_class() takes kMax - 1 bounds");
+  int classify(double radius) const { return size_class(radius, count, lower[1], lower[2], lower[3]); }
 };
 
 DEBRIS_DECLARE_TARGET
