@@ -154,7 +154,21 @@ int run(const Options& opt) {
                          p.max_overlap});
       };
       const auto t0 = Clock::now();
-      const AmorphousSample sample = make_amorphous_sample(spec, observer, cfg.thermo_every);
+      const AmorphousSample sample = [&] {
+        try {
+          return make_amorphous_sample(spec, observer, cfg.thermo_every);
+        } catch (const SampleCollapse& e) {  // bad input: no relaxed sample exists for this material and recipe
+          const CohesiveMaterial& m = spec.material;
+          throw input_error("material", "surface_energy " + format_value(m.surface_energy) + ", tensile_strength " +
+                                            format_value(m.tensile_strength) + ", youngs_modulus " +
+                                            format_value(m.youngs_modulus),
+                            std::string(e.what()) + ". The pair attraction reaches past the neighbours: its reach "
+                            "delta_f (eq 9) over d0 is (sigma_N / E) / (d0 / d_c) below d_c and (sigma_N / E) / "
+                            "sqrt(d0 / d_c) above it with s = 1/2, so a smaller tensile_strength over "
+                            "youngs_modulus or a larger sample.d0 shortens it (at a fixed size in metres, a smaller "
+                            "surface_energy)");
+        }
+      }();
       const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
       if (cfg.save_samples) write_amorphous_sample((dir / "samples" / tag).string(), sample, spec, text);
 

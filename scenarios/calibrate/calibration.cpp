@@ -41,7 +41,7 @@ RelaxedSample relax(const CalibrationSpec& spec, const CohesiveMaterial& inputs)
   AmorphousSpec a = spec.sample;
   a.material = inputs;
   a.d0 = spec.d0 / inputs.critical_diameter();  // the same length in units of these inputs' d_c (eq 18)
-  a.collapse_fraction = 1.0;  // spheres filling more than the box: the packing is being pulled in
+  // AmorphousSpec's collapse_fraction (1: spheres filling more than the box) marks the reachable set's edge.
   AmorphousSample relaxed = make_amorphous_sample(a);
   RelaxedSample r;
   r.fraction = relaxed.relaxed_fraction;

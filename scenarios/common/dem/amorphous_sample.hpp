@@ -90,10 +90,11 @@ struct AmorphousSpec {
   double box_relaxation_time = 1.0;  // tau, in crossing times L_max / sqrt(E / rho)
   double max_box_strain = 1e-3;      // cap on |eps_a| per update
   // > 0: phase 2 stops with SampleCollapse when the box would shrink until the spheres' volume over the
-  // box's passes this (a pair law whose attraction outreaches the packing pulls it together without end;
-  // the calibration of scenarios/calibrate asks for 1). 0: no such stop. Not part of the recipe's key: a
+  // box's passes this (a pair law whose attraction outreaches the packing pulls it together without end).
+  // 1: spheres filling more than their box are no sample (without the stop, such a packing relaxed to 1.04
+  // or shrank the box to the neighbour list's limit). 0: no such stop. Not part of the recipe's key: a
   // sample it lets through is the same sample.
-  double collapse_fraction = 0.0;
+  double collapse_fraction = 1.0;
 
   /// Throws InputError naming "sample.<key>" or "relaxation.<key>" (the input file's keys) for the first
   /// bad value: d0 below d_min (eq 19), a size distribution that is not d_s < 1 < d_l, a volume fraction
