@@ -10,6 +10,29 @@ import pathlib
 
 HERE = pathlib.Path(__file__).resolve().parent
 
+TABLE5 = """material:                      # Table 5, s = 0.5
+  youngs_modulus: 73 GPa
+  poisson_ratio: 0.17
+  tensile_strength: 16 GPa
+  shear_strength: 9 GPa
+  surface_energy: 1.5 N/m
+  restitution: 0.9
+  density: 2200 kg/m^3
+  scaling: 0.5
+"""
+# debris_calibrate's answer for Table 5 on the junction's sample recipe (d_l = 7.5 nm, seed 1): its sample
+# measures E = 73 GPa, nu 0.167, tension 11.5 GPa (16 is out of reach), shear 8.3 GPa (scenarios/patch/RESULTS.md).
+CALIBRATED_3NM = """material:                      # calibrated silica (debris_calibrate), s = 0.5
+  youngs_modulus: 73.383441 GPa
+  poisson_ratio: 0.17
+  tensile_strength: 16.084042 GPa
+  shear_strength: 13.57091 GPa
+  surface_energy: 5.2197049 N/m
+  restitution: 0.9
+  density: 2200 kg/m^3
+  scaling: 0.5
+"""
+
 # Per d0: the sample, the time step of Table 6, and the analysis sampling interval (0.05 ns) in steps.
 CASES = {
     "1.5": dict(data="data/silica_d0_1.5nm.data", dt_fs=20),
@@ -23,6 +46,13 @@ CASES = {
     # And at d0 = 1.5 nm, where D = 20 nm rolls on seed 1: does it roll on every sample? (issue 29)
     "1.5_seed2": dict(data="data/silica_d0_1.5nm_seed2.data", dt_fs=20, d0=1.5),
     "1.5_seed3": dict(data="data/silica_d0_1.5nm_seed3.data", dt_fs=20, d0=1.5),
+    # Calibrated silica at d0 = 3 nm (sample_d0_3nm_calibrated.yaml): the inputs debris_calibrate returned for
+    # this recipe, whose sample measures 73 GPa and the closest reachable strengths (issue 29).
+    "3_calibrated": dict(data="data/silica_d0_3nm_calibrated.data", dt_fs=40, d0=3, material=CALIBRATED_3NM),
+    # Its control: Table 5 with the surface energy half way (in log) to the calibrated one.
+    "3_gamma3.4": dict(data="data/silica_d0_3nm_gamma3.4.data", dt_fs=40, d0=3,
+                       material=TABLE5.replace("surface_energy: 1.5 N/m", "surface_energy: 3.3749 N/m")
+                                      .replace("# Table 5, s = 0.5", "# Table 5 with 3.3749 N/m, s = 0.5")),
 }
 SETTLE_NS = 0.2      # settling under the load before sliding (the paper is silent): see README
 SLIDE_NS = 10.0      # 10 ns of sliding (Table 6)
@@ -64,7 +94,10 @@ def write(d0, D, load_mpa=100, settle=True, slide_ns=SLIDE_NS, variant="", folde
     duration: {SETTLE_NS} ns
     global_damping: 0.1
 """ if settle else ""
-    sample = f" (sample {seed.replace('seed', 'seed ')})" if seed else ""
+    sample = (f" (sample {seed.replace('seed', 'seed ')})" if seed.startswith("seed")
+              else f" (calibrated silica)" if seed == "calibrated"
+              else f" (Table 5, surface energy {seed[len('gamma'):]} N/m)" if seed else "")
+    material = case.get("material", TABLE5)
     text = f"""# Sheared junction of paper A section 4 (Figs 9, 10, A.10): D = {D} nm, d0 = {d0_label} nm{sample}. Two amorphous silica
 # bodies joined by a cylinder of diameter D and height D/2 (axis y), rigid walls {1.5 * d0_m * 1e9:g} nm (1.5 d0)
 # thick at the outer faces; the bottom wall is fixed, the top wall slides at 10 m/s along x under a normal
@@ -72,16 +105,7 @@ def write(d0, D, load_mpa=100, settle=True, slide_ns=SLIDE_NS, variant="", folde
 # (box {nm(hi[0] - lo[0])} x {nm(hi[1] - lo[1])} x {nm(hi[2] - lo[2])}). Run:
 #   build/bin/debris_dem -i scenarios/wear/{name}.yaml
 # The wear analysis decides ductile or rolling wear particle (wear.csv, the closing lines); see README.
-material:                      # Table 5, s = 0.5
-  youngs_modulus: 73 GPa
-  poisson_ratio: 0.17
-  tensile_strength: 16 GPa
-  shear_strength: 9 GPa
-  surface_energy: 1.5 N/m
-  restitution: 0.9
-  density: 2200 kg/m^3
-  scaling: 0.5
-
+{material}
 particles:
   lammps_data: {data}
   masses_from_file: true       # the relaxed sample's masses (total mass / box volume = rho)
