@@ -9,7 +9,8 @@ sample, 466 particles, 1,750 steps) in two chunks, the second a --restart; and t
 summarize.py's wall time is the `total` row of the log; plot.py reads the first dump and the restart's,
 dropping the repeated checkpoint frame, and names only what it wrote; compression.py refuses a run too
 short for the press and draws damage from a restart chunk's frames; a wrong folder is one line on stderr and
-exit status 2 and leaves no folder behind (summarize, plot, compression, damage_picture, settled_pack).
+exit status 2 and leaves no folder behind (summarize, plot, compression, damage_picture, settled_pack);
+scenarios/patch/plot_sizes.py merges two sizes' cases.csv and counts each panel's points.
 About 10 s on one core. Needs Debian's python3-matplotlib, python3-numpy and python3-h5py, and gmsh.
 """
 import os
@@ -314,6 +315,46 @@ class Plot(Helpers):
         self.assertOneLineError(script(self.SCRIPT, WORK / "junction", "--frames", "0,8", "--out",
                                        WORK / "no_such_out"), "plot.py", "8 frames")
         self.assertFalse((WORK / "no_such_out").exists())
+
+
+class PlotSizes(Helpers):
+    """scenarios/patch/plot_sizes.py on two sizes' cases.csv (rows as debris_patch writes them)."""
+    SCRIPT = SOURCE / "scenarios" / "patch" / "plot_sizes.py"
+    HEADER = "case,test,sample,d0_over_dc,s,status,E_dev,nu,volume_fraction,strength_over_target\n"
+
+    def write(self, name, rows):
+        path = WORK / name
+        path.write_text(self.HEADER + "".join(",".join(str(v) for v in r) + "\n" for r in rows))
+        return path
+
+    def test_merges_runs_of_one_size_and_counts_each_panel(self):
+        small = self.write("small.csv", [(1, "elastic", "amorphous", 1.2, 0, "ok", -0.1, 0.159, 0.768, ""),
+                                         (2, "elastic", "amorphous", 2.4, 0.5, "ok", -0.25, 0.159, 0.718, ""),
+                                         (3, "tension", "amorphous", 1.2, 0, "ok", "", "", "", 0.579),
+                                         (4, "tension", "hcp", 1.2, 0, "ok", "", "", "", 0.9),       # not amorphous
+                                         (5, "shear", "amorphous", 1.2, 0, "failed", "", "", "", 0.8)])  # not ok
+        # Two runs of the large size; the second repeats the first's case at 1.2 d_c, which keeps one point.
+        a = self.write("large_a.csv", [(1, "elastic", "amorphous", 1.2, 0, "ok", -0.08, 0.157, 0.767, "")])
+        b = self.write("large_b.csv", [(1, "elastic", "amorphous", 1.2, 0, "ok", -0.077, 0.157, 0.767, ""),
+                                       (2, "elastic", "amorphous", 2.4, 0.5, "ok", -0.2, 0.157, 0.72, "")])
+        out = WORK / "sizes"
+        r = script(self.SCRIPT, "--size", "L = 12 d0", small, "--size", "L = 100 d0", a, b, "--out", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("E / E_target (Fig 8): L = 12 d0 s=0: 1, L = 12 d0 s=0.5: 1, L = 100 d0 s=0: 1, "
+                      "L = 100 d0 s=0.5: 1", r.stdout)
+        self.assertIn("tensile strength / target (Fig A.7): L = 12 d0 s=0: 1\n", r.stdout)
+        self.assertIn("shear strength / target (Fig A.8): no points", r.stdout)
+        self.assertEqual([p.name for p in out.iterdir()], ["amorphous_sizes.png"])
+
+    def test_wrong_files_write_nothing(self):
+        out = WORK / "no_such_sizes"
+        self.assertOneLineError(script(self.SCRIPT, "--size", "L", WORK / "no_such.csv", "--out", out),
+                                "plot_sizes.py", "no_such.csv")
+        bad = WORK / "not_cases.csv"
+        bad.write_text("a,b\n1,2\n")
+        self.assertOneLineError(script(self.SCRIPT, "--size", "L", bad, "--out", out), "plot_sizes.py",
+                                "not a debris_patch cases.csv")
+        self.assertFalse(out.exists())
 
 
 class Compression(Helpers):
