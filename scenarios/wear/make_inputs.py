@@ -95,7 +95,7 @@ def write(d0, D, load_mpa=100, settle=True, slide_ns=SLIDE_NS, variant="", folde
     global_damping: 0.1
 """ if settle else ""
     sample = (f" (sample {seed.replace('seed', 'seed ')})" if seed.startswith("seed")
-              else f" (calibrated silica)" if seed == "calibrated"
+              else " (calibrated silica)" if seed == "calibrated"
               else f" (Table 5, surface energy {seed[len('gamma'):]} N/m)" if seed else "")
     material = case.get("material", TABLE5)
     text = f"""# Sheared junction of paper A section 4 (Figs 9, 10, A.10): D = {D} nm, d0 = {d0_label} nm{sample}. Two amorphous silica
