@@ -567,5 +567,61 @@ TEST(PatchCli, StepLimitNeverMetEndsWithAMessageAndStatus3) {
   EXPECT_NE(table.find("\n2,tension,hcp,y,"), std::string::npos) << "the other cases still run";
 }
 
+// A sweep stopped part way (here: two of four rows written, the third torn as a killed run leaves it, the
+// fourth case's curve never written) and resumed: only the missing cases run, and the table (wall times
+// aside) and the plots are those of the uninterrupted run, bit for bit.
+TEST(PatchCli, ResumeRunsOnlyTheMissingCasesAndPlotsThemAll) {
+  const fs::path dir = scratch("resume");
+  const std::string input = replace(small_input(), "  poisson_ratio: 0", "  poisson_ratio: [0, 0.1]");
+  std::ofstream(dir / "in.yaml") << input;
+  auto patch = [&](const std::string& out, const std::string& more) {
+    return run_patch("-i " + (dir / "in.yaml").string() + " -o " + (dir / out).string() + " --threads 1" + more);
+  };
+  const Result whole = patch("whole", "");
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  const std::string table = slurp(dir / "whole" / "cases.csv");
+  std::vector<std::string> lines;
+  for (std::istringstream in(table); std::getline(in, lines.emplace_back());) {
+  }
+  lines.pop_back();
+  ASSERT_EQ(lines.size(), 5u) << table;  // header and four cases
+
+  fs::copy(dir / "whole", dir / "stopped", fs::copy_options::recursive);
+  std::ofstream(dir / "stopped" / "cases.csv", std::ios::trunc)
+      << lines[0] << "\n" << lines[1] << "\n" << lines[2] << "\n" << lines[3].substr(0, 40);
+  fs::remove(dir / "stopped" / "curves" / "case_004_tension.csv");
+  fs::remove(dir / "stopped" / "plots.gp");
+  const Result resumed = patch("stopped", " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_NE(resumed.output.find("resume: 2 of 4 case(s) finished"), std::string::npos) << resumed.output;
+  EXPECT_NE(resumed.output.find("line 4 of cases.csv is incomplete"), std::string::npos) << resumed.output;
+  std::size_t kept = 0;
+  for (std::size_t at = 0; (at = resumed.output.find("finished by an earlier run", at)) != std::string::npos; ++at)
+    ++kept;
+  EXPECT_EQ(kept, 2u) << resumed.output;
+
+  EXPECT_EQ(slurp(dir / "stopped" / "plots.gp"), slurp(dir / "whole" / "plots.gp"));
+  auto rows = debris::test::read_csv_rows(dir / "whole" / "cases.csv");
+  auto again = debris::test::read_csv_rows(dir / "stopped" / "cases.csv");
+  ASSERT_EQ(again.size(), 4u);
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    if (k >= 2) {  // the cases run again: the same numbers, their own wall times
+      rows[k].erase("wall_seconds");
+      again[k].erase("wall_seconds");
+    }
+    EXPECT_EQ(again[k], rows[k]) << "row " << k + 1;
+  }
+  EXPECT_EQ(slurp(dir / "stopped" / "curves" / "case_004_tension.csv"),
+            slurp(dir / "whole" / "curves" / "case_004_tension.csv"));
+
+  // Another input's results are not resumed (case k of one sweep is not case k of another).
+  std::ofstream(dir / "in.yaml", std::ios::trunc) << replace(input, "  length: 8", "  length: 9");
+  const Result other = patch("stopped", " --resume");
+  EXPECT_EQ(other.exit_code, 2) << other.output;
+  EXPECT_NE(other.output.find("'--resume'"), std::string::npos) << other.output;
+  EXPECT_NE(other.output.find("another input"), std::string::npos) << other.output;
+  EXPECT_EQ(debris::test::read_csv_rows(dir / "stopped" / "cases.csv").size(), 4u) << "nothing written is lost";
+}
+
 }  // namespace
 }  // namespace debris

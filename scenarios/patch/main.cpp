@@ -5,7 +5,8 @@
 // by gnuplot next to the paper's targets. Bad input ends with a message naming the key and the value and
 // exit status 2, before anything is run or written; a case that cannot finish (no equilibrium within the
 // step limit, a sample that gives way, a blown-up state) is reported in its row and on the terminal, the
-// other cases still run, and the exit status is 3.
+// other cases still run, and the exit status is 3. --resume continues a sweep an earlier run of the same
+// input left unfinished in the output directory: the cases of its cases.csv are kept and the others run.
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <filesystem>
@@ -24,6 +25,7 @@
 #include "scenarios/patch/amorphous_cache.hpp"
 #include "scenarios/patch/patch_input.hpp"
 #include "scenarios/patch/patch_report.hpp"
+#include "scenarios/patch/patch_resume.hpp"
 
 namespace {
 
@@ -35,6 +37,7 @@ using Clock = std::chrono::steady_clock;
 struct Options {
   std::string input, output;
   int threads = 0;
+  bool resume = false;
 };
 
 std::string describe_case(const PatchCase& c) {
@@ -108,13 +111,27 @@ int run(const Options& opt) {
   std::cout << cfg.cases.size() << " case(s)\n";
 
   const fs::path dir = cfg.output_directory;
+  FinishedCases finished;
+  if (opt.resume) {
+    // The same input or nothing: case k of another input is another case.
+    if (fs::exists(dir / "input.yaml")) {
+      if (read_input_file((dir / "input.yaml").string()) != text)
+        throw input_error("--resume", dir.string(),
+                          "holds the results of another input (its input.yaml differs from " + opt.input +
+                              "); resume with that input, or run this one into another output directory");
+    }
+    finished = read_finished_cases(dir.string(), results);
+    std::cout << "resume: " << finished.results.size() << " of " << results.size() << " case(s) finished in "
+              << dir.string() << "/cases.csv, kept"
+              << (finished.dropped.empty() ? "" : " (run again: " + finished.dropped + ")") << std::endl;
+  }
   fs::create_directories(dir);
   fs::create_directories(dir / "curves");
   {
     std::ofstream echo(dir / "input.yaml", std::ios::binary | std::ios::trunc);
     echo << text;
   }
-  PatchCasesCsv table((dir / "cases.csv").string());
+  PatchCasesCsv table((dir / "cases.csv").string(), finished.rows);
   AmorphousSampleCache cache(cfg.cache_directory.empty() ? (dir / "samples").string() : cfg.cache_directory, std::cout);
 
   const auto t0 = Clock::now();
@@ -122,6 +139,13 @@ int run(const Options& opt) {
   for (PatchCaseResult& r : results) {
     const PatchCase& c = r.c;
     std::cout << "\ncase " << c.index << "/" << results.size() << ": " << describe_case(c) << std::endl;
+    if (const auto kept = finished.results.find(c.index); kept != finished.results.end()) {
+      r = kept->second;
+      if (!r.ok) ++failed;
+      const std::string line = result_line(r);  // its first line: the rest restates settings not in the table
+      std::cout << "  finished by an earlier run (--resume)\n" << line.substr(0, line.find('\n')) << std::endl;
+      continue;
+    }
     if (!c.amorphous) std::cout << "  " << r.description << std::endl;
     std::unique_ptr<Progress> progress;
     const PatchProgress report = [&](long step, long limit, std::size_t n) {
@@ -182,6 +206,9 @@ int main(int argc, char** argv) {
   app.add_option("-i,--input", opt.input, "YAML input file")->required();
   app.add_option("-o,--output", opt.output, "output directory (overrides output.directory)");
   app.add_option("--threads", opt.threads, "number of host threads (overrides threads)")->check(CLI::NonNegativeNumber);
+  app.add_flag("--resume", opt.resume,
+               "continue the sweep an earlier run of the same input left in the output directory: keep the "
+               "cases of its cases.csv (and their curves), run the others, plot them all");
   app.footer("Example, from the repository root (the elastic patch test over nu, about a minute):\n"
              "  ./build/bin/debris_patch -i scenarios/patch/elastic_nu_sweep.yaml -o out/patch_elastic");
   if (const int status = debris::parse_command_line(app, argc, argv); status >= 0) return status;

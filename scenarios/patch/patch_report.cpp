@@ -55,16 +55,26 @@ std::string short_num(double v) {
 
 }  // namespace
 
-PatchCasesCsv::PatchCasesCsv(const std::string& path) {
-  out_.open(path, std::ios::binary | std::ios::trunc);
-  if (!out_)
-    throw input_error("output.directory", path, std::string("cannot open for writing: ") + std::strerror(errno));
+std::string patch_cases_header() {
   std::string header;
   for (const char* c : kColumns) {
     if (!header.empty()) header += ',';
     header += c;  // appended piecewise: GCC 12 warns falsely (-Wrestrict) on chains of std::string operator+
   }
-  out_ << header << '\n' << std::flush;
+  return header;
+}
+
+std::string patch_case_sample(const PatchCase& c) {
+  return c.lattice ? std::string("hcp") : (c.amorphous ? c.sample_label() : c.data_file);
+}
+
+PatchCasesCsv::PatchCasesCsv(const std::string& path, const std::vector<std::string>& kept_rows) {
+  out_.open(path, std::ios::binary | std::ios::trunc);
+  if (!out_)
+    throw input_error("output.directory", path, std::string("cannot open for writing: ") + std::strerror(errno));
+  out_ << patch_cases_header() << '\n';
+  for (const std::string& row : kept_rows) out_ << row << '\n';
+  out_ << std::flush;
 }
 
 void PatchCasesCsv::write(const PatchCaseResult& r) {
@@ -72,7 +82,7 @@ void PatchCasesCsv::write(const PatchCaseResult& r) {
   std::vector<std::string> f;
   f.push_back(std::to_string(c.index));
   f.push_back(patch_test_name(c.test));
-  f.push_back(field(c.lattice ? std::string("hcp") : (c.amorphous ? c.sample_label() : c.data_file)));
+  f.push_back(field(patch_case_sample(c)));
   f.push_back(c.lattice ? std::string(1, "xyz"[c.hcp.c_axis]) : "");
   f.push_back(num(r.d0 / c.material.critical_diameter()));
   f.push_back(num(r.d0));

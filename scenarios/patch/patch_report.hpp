@@ -26,10 +26,16 @@ struct PatchCaseResult {
   std::string curve_file;  // strength tests: the stress-strain CSV, relative to the output directory
 };
 
+/// The header line of cases.csv (no line break).
+std::string patch_cases_header();
+/// What the sample column of cases.csv says of a case: "hcp", the amorphous label or the data file.
+std::string patch_case_sample(const PatchCase& c);
+
 /// The table of cases, one row written (and flushed) per finished case.
 class PatchCasesCsv {
  public:
-  explicit PatchCasesCsv(const std::string& path);
+  /// Writes the header, then `kept_rows` (lines of an earlier run that --resume keeps), to a fresh file.
+  explicit PatchCasesCsv(const std::string& path, const std::vector<std::string>& kept_rows = {});
   void write(const PatchCaseResult& r);
 
  private:
