@@ -10,7 +10,8 @@ summarize.py's wall time is the `total` row of the log; plot.py reads the first 
 dropping the repeated checkpoint frame, and names only what it wrote; compression.py refuses a run too
 short for the press and draws damage from a restart chunk's frames; a wrong folder is one line on stderr and
 exit status 2 and leaves no folder behind (summarize, plot, compression, damage_picture, settled_pack);
-scenarios/patch/plot_sizes.py merges two sizes' cases.csv and counts each panel's points.
+scenarios/patch/plot_sizes.py merges two sizes' cases.csv and counts each panel's points;
+scenarios/patch/plot_discretisation.py draws one line per system size and d_l rule, a d0 sweep's rows added.
 About 10 s on one core. Needs Debian's python3-matplotlib, python3-numpy and python3-h5py, and gmsh.
 """
 import os
@@ -353,6 +354,47 @@ class PlotSizes(Helpers):
         bad = WORK / "not_cases.csv"
         bad.write_text("a,b\n1,2\n")
         self.assertOneLineError(script(self.SCRIPT, "--size", "L", bad, "--out", out), "plot_sizes.py",
+                                "not a debris_patch cases.csv")
+        self.assertFalse(out.exists())
+
+
+class PlotDiscretisation(Helpers):
+    """scenarios/patch/plot_discretisation.py on discretisation runs and a d0 sweep (rows as debris_patch writes)."""
+    SCRIPT = SOURCE / "scenarios" / "patch" / "plot_discretisation.py"
+    HEADER = "case,test,sample,d0_over_dc,s,status,strength,target_strength,outcome,system_size_over_dc\n"
+
+    def write(self, name, rows):
+        path = WORK / name
+        path.write_text(self.HEADER + "".join(",".join(f'"{v}"' if "," in str(v) else str(v) for v in r) + "\n"
+                                              for r in rows))
+        return path
+
+    def test_lines_per_size_and_rule_with_ratios_to_the_coarsest(self):
+        fixed, scaled = "amorphous L=60 d_c, d_l fixed 3 d_c", "amorphous L=60 d_c, d_l = 1.25 d0"
+        a = self.write("disc_a.csv", [(1, "tension", fixed, 2.4, 0.5, "ok", 0.06, 0.129, "broke", 60),
+                                      (2, "tension", fixed, 1.2, 0.5, "ok", 0.07, 0.183, "broke", 60),
+                                      (3, "tension", scaled, 1.2, 0.5, "failed", "", "", "", 60)])  # not ok
+        b = self.write("disc_b.csv", [(3, "tension", scaled, 2.4, 0.5, "ok", 0.06, 0.129, "broke", 60),
+                                      (4, "tension", scaled, 1.2, 0.5, "ok", 0.09, 0.183, "broke", 60)])
+        # The d0 sweep at L = 100 d0: d0 = 0.6 d_c is L = 60 d_c (kept), 0.7 d_c is L = 70 d_c (not a size).
+        sweep = self.write("sweep.csv", [(1, "elastic", "amorphous", 0.6, 0.5, "ok", "", "", "", ""),
+                                         (2, "tension", "amorphous", 0.6, 0.5, "ok", 0.12, 0.2, "broke", ""),
+                                         (3, "tension", "amorphous", 0.7, 0.5, "ok", 0.11, 0.2, "broke", "")])
+        out = WORK / "discretisation"
+        r = script(self.SCRIPT, a, b, "--scaled-from-sweep", sweep, "--sizes", "60", "120", "--out", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("s=0.5 L=60 d_l fixed: n=25 0.06 (1.00), n=50 0.07 (1.17)\n", r.stdout)
+        self.assertIn("s=0.5 L=60 d_l scaled: n=25 0.06 (1.00), n=50 0.09 (1.50), n=100 0.12 (2.00)\n", r.stdout)
+        self.assertNotIn("L=70", r.stdout)
+        self.assertEqual([p.name for p in out.iterdir()], ["discretisation.png"])
+
+    def test_wrong_files_write_nothing(self):
+        out = WORK / "no_such_discretisation"
+        self.assertOneLineError(script(self.SCRIPT, WORK / "no_such.csv", "--out", out), "plot_discretisation.py",
+                                "no_such.csv")
+        bad = WORK / "not_cases_disc.csv"
+        bad.write_text("a,b\n1,2\n")
+        self.assertOneLineError(script(self.SCRIPT, bad, "--out", out), "plot_discretisation.py",
                                 "not a debris_patch cases.csv")
         self.assertFalse(out.exists())
 
