@@ -15,7 +15,7 @@ namespace debris {
 namespace {
 
 struct PairInputs {
-  const int *row, *col;
+  const int *offset, *col;
   CohesiveCoefficients c;
   const double *x, *y, *z, *r, *vx, *vy, *vz, *wx, *wy, *wz;
   const CohesivePairTable *t;
@@ -29,7 +29,9 @@ struct PairInputs {
 // Phase 1 results of at most kChunkPairs pairs: small enough to stay in L1 between the vector loop that
 // writes them and the scalar sweep that hands them out.
 constexpr int kChunkPairs = 256;
+constexpr int kRowRun = 8;
 struct ChunkBuffer {
+  alignas(64) int row[kChunkPairs + kRowRun];  // i of each pair, from the list's offsets (no column kept)
   alignas(64) double fx[kChunkPairs], fy[kChunkPairs], fz[kChunkPairs];
   alignas(64) double tix[kChunkPairs], tiy[kChunkPairs], tiz[kChunkPairs];
   alignas(64) double tjx[kChunkPairs], tjy[kChunkPairs], tjz[kChunkPairs];
@@ -40,7 +42,7 @@ struct ChunkBuffer {
 // (x86-64, AVX2, AVX-512); the loader picks the best the machine runs, so the default build still runs
 // anywhere.
 DEBRIS_HOST_ONLY_CLONES void pair_chunk(const PairInputs &a, int k0, int k1, ChunkBuffer &o) {
-  const int *__restrict row = a.row;
+  const int *__restrict row = o.row;
   const int *__restrict col = a.col;
   const double *__restrict x = a.x, *__restrict y = a.y, *__restrict z = a.z, *__restrict r = a.r;
   const double *__restrict vx = a.vx, *__restrict vy = a.vy, *__restrict vz = a.vz;
@@ -61,7 +63,7 @@ DEBRIS_HOST_ONLY_CLONES void pair_chunk(const PairInputs &a, int k0, int k1, Chu
   DEBRIS_HOST_VECTOR_LOOP
   for (int q = 0; q < k1 - k0; ++q) {
     const int k = k0 + q;
-    const int i = row[k], j = col[k];
+    const int i = row[q], j = col[k];
     const Vec3 dx{nearest_image(x[i] - x[j], lx, px), nearest_image(y[i] - y[j], ly, py),
                   nearest_image(z[i] - z[j], lz, pz)};
     // A half list keeps a pair in row min(i, j): i is the first particle.
@@ -96,21 +98,34 @@ struct RowSum {
   double fx = 0, fy = 0, fz = 0, tx = 0, ty = 0, tz = 0;
 };
 
-// Pairs [k_begin, k_end), whole rows, in chunks of kChunkPairs (pair_chunk is the vector loop): each row's
-// own shares are summed in increasing k, carried across chunks, and handed to row_done(i, sum) when the row
-// ends; each pair's partner share is handed to partner(k, q) while it is in the chunk buffer c (slot q).
+// Rows [row_begin, row_end), their pairs in chunks of kChunkPairs (pair_chunk is the vector loop): each
+// row's own shares are summed in increasing k, carried across chunks, and handed to row_done(i, sum) when the
+// row ends; each pair's partner share is handed to partner(k, q) while it is in the chunk buffer c (slot q).
 // Both paths of the pass walk their pairs with it and differ only in what they do with the two shares.
 template <class RowDone, class Partner>
-inline void sweep_rows(const PairInputs &in, int k_begin, int k_end, ChunkBuffer &c, RowDone &&row_done,
+inline void sweep_rows(const PairInputs &in, int row_begin, int row_end, ChunkBuffer &c, RowDone &&row_done,
                        Partner &&partner) {
-  const int *__restrict row = in.row;
-  int cur = -1;
+  const int *__restrict offset = in.offset;
+  const int k_end = offset[row_end];
+  int cur = -1, next_row = row_begin;
   RowSum sum;
-  for (int k0 = k_begin; k0 < k_end; k0 += kChunkPairs) {
+  for (int k0 = offset[row_begin]; k0 < k_end; k0 += kChunkPairs) {
     const int k1 = std::min(k_end, k0 + kChunkPairs);
+    // The chunk's row indices (a row may span chunks): 4 bytes per pair in L1 instead of a column in memory.
+    // Each row writes kRowRun slots at once (a later row overwrites the excess; the buffer has room past its
+    // end), so rows of up to kRowRun pairs, nearly all of them, cost one store and no data-dependent loop.
+    int i = next_row;
+    while (offset[i + 1] <= k0) ++i;
+    for (int k = k0; k < k1; ++i) {
+      const int stop = std::min(offset[i + 1], k1);
+      for (int at = k - k0; at < stop - k0; at += kRowRun)
+        for (int v = 0; v < kRowRun; ++v) c.row[at + v] = i;
+      k = stop;
+    }
+    next_row = i - 1;
     pair_chunk(in, k0, k1, c);
     for (int k = k0; k < k1; ++k) {
-      const int q = k - k0, i = row[k];
+      const int q = k - k0, i = c.row[q];
       if (i != cur) {
         if (cur >= 0) row_done(cur, sum);
         cur = i;
@@ -131,11 +146,7 @@ inline void sweep_rows(const PairInputs &in, int k_begin, int k_end, ChunkBuffer
 }  // namespace
 
 void HalfPassScratch::index(const NeighborList &list) {
-  const int n = list.rows(), m = list.entries();
-  const int *offset = list.offset().data();
-  resize_for_overwrite(row_of, static_cast<std::size_t>(m));
-  for (int i = 0; i < n; ++i)
-    for (int k = offset[i]; k < offset[i + 1]; ++k) row_of[static_cast<std::size_t>(k)] = i;
+  entries = list.entries();
   partition(list, exec::threads());
 }
 
@@ -258,7 +269,7 @@ void HalfPassScratch::index_filed(const NeighborList &list) {
 }
 
 std::size_t HalfPassScratch::bytes() const {
-  std::size_t ints = row_of.capacity() + part_row.capacity() + part_run.capacity() + thread_unit.capacity();
+  std::size_t ints = part_row.capacity() + part_run.capacity() + thread_unit.capacity();
   for (const std::vector<int> *v : {&run_begin, &run_end, &run_pair, &run_sum, &unit_run, &unit_begin, &unit_end})
     ints += v->capacity();
   ints += block_row.capacity() + in_offset.capacity() + in_entry.capacity();
@@ -274,7 +285,6 @@ void filed_pass(const PairInputs &in, const NeighborList &list, Particles &p, Ha
   const int n = list.rows();
   const int blocks = static_cast<int>(s.block_row.size()) - 1;
   const int *__restrict block_row = s.block_row.data();
-  const int *__restrict offset = list.offset().data();
   const int *__restrict in_entry = s.in_entry.data();
   const int *__restrict in_offset = s.in_offset.data();
   double *__restrict filed = s.filed.data();
@@ -286,7 +296,7 @@ void filed_pass(const PairInputs &in, const NeighborList &list, Particles &p, Ha
     for (int b = 0; b < blocks; ++b) {
       for (int i = block_row[b]; i < block_row[b + 1]; ++i) fx[i] = fy[i] = fz[i] = tx[i] = ty[i] = tz[i] = 0.0;
       sweep_rows(
-          in, offset[block_row[b]], offset[block_row[b + 1]], c,
+          in, block_row[b], block_row[b + 1], c,
           [&](int i, const RowSum &r) {  // R, from zero
             fx[i] += r.fx;
             fy[i] += r.fy;
@@ -329,11 +339,11 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
                                 Particles &p, const NeighborList &list, ContactHistory &history, double dt,
                                 int update_history, HalfPassScratch &s) {
   if (list.kind() != NeighborKind::half) throw std::logic_error("cohesive_contact_pass_half needs a half list");
-  if (s.row_of.size() != static_cast<std::size_t>(list.entries()))
+  if (s.entries != list.entries())
     throw std::logic_error("cohesive_contact_pass_half: scratch not indexed for this list");
   // The thread count may have changed since the list was built (the thread tuner): part the rows anew.
   if (s.parts != exec::threads()) s.partition(list, exec::threads());
-  const PairInputs in{s.row_of.data(),
+  const PairInputs in{list.offset().data(),
                       list.index().data(),
                       table.coefficients,
                       p.x.data(),
@@ -384,7 +394,7 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
     const int r = s.unit_run[static_cast<std::size_t>(u)];
     const int row0 = run_begin[r], k0 = offset[row0];
     sweep_rows(
-        in, offset[s.unit_begin[static_cast<std::size_t>(u)]], offset[s.unit_end[static_cast<std::size_t>(u)]], c,
+        in, s.unit_begin[static_cast<std::size_t>(u)], s.unit_end[static_cast<std::size_t>(u)], c,
         [&](int i, const RowSum &q) {
           double *sum_i = tail_sum + kStride * (run_sum[r] + i - row0);
           sum_i[0] = q.fx, sum_i[1] = q.fy, sum_i[2] = q.fz, sum_i[3] = q.tx, sum_i[4] = q.ty, sum_i[5] = q.tz;
@@ -401,7 +411,7 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
   };
   auto sweep = [&](int row0, int row1, ChunkBuffer &c) {  // rows swept on the spot: R + P, P_j in increasing k
     sweep_rows(
-        in, offset[row0], offset[row1], c,
+        in, row0, row1, c,
         [&](int i, const RowSum &q) {
           fx[i] = q.fx + fx[i];
           fy[i] = q.fy + fy[i];
