@@ -240,7 +240,7 @@ class NeighborList {
   exec::DeviceVector<int> offset_;
   exec::DeviceVector<long long> scan_scratch_;  // device_prefix_sum's block sums
   exec::DeviceVector<int> index_;
-  std::vector<std::vector<int>> thread_rows_;  // host build: each thread's rows, kept between builds
+  std::vector<std::vector<int>> thread_rows_;  // host build: each later thread's rows (the first's: index_)
   exec::DeviceVector<double> x0_, y0_, z0_;  // positions at the last build (offload: copied on the device)
   double len0_[3] = {0, 0, 0};        // box lengths at the last build
   int rows_ = 0;
@@ -256,7 +256,9 @@ template <class RowFn>
 void NeighborList::fill_rows_host(int n, RowFn row_fn) {
   // One scan. Each thread takes a contiguous run of rows and appends them to its own buffer (with room for
   // all of a row's candidates), then the runs are copied into place: the same rows as two scans (count,
-  // then fill), at about half the cost.
+  // then fill), at about half the cost. The first thread's buffer is the index itself (its rows come first),
+  // so one thread copies nothing and no thread holds a second copy of the first run. Buffers grow by a
+  // quarter, not double: they are kept between builds, so their slack is memory held for the whole run.
   thread_rows_.resize(static_cast<std::size_t>(exec::threads()));
   thread_candidates_.assign(thread_rows_.size(), 0);
   int* __restrict off = offset_.data();
@@ -266,7 +268,7 @@ void NeighborList::fill_rows_host(int n, RowFn row_fn) {
   DEBRIS_HOST_PARALLEL {
     const int team = exec::team_size(), rank = exec::team_rank();
     if (rank == 0) team_used = team;
-    std::vector<int>& buf = thread_rows_[static_cast<std::size_t>(rank)];
+    std::vector<int>& buf = rank == 0 ? index_ : thread_rows_[static_cast<std::size_t>(rank)];
     buf.clear();
     long long scanned = 0;
     std::size_t at = 0;
@@ -274,7 +276,7 @@ void NeighborList::fill_rows_host(int n, RowFn row_fn) {
     auto room = [&](int candidates) {
       scanned += candidates;
       const std::size_t need = at + static_cast<std::size_t>(candidates);
-      if (buf.capacity() < need) buf.reserve(2 * need);
+      if (buf.capacity() < need) buf.reserve(need + need / 4);
       buf.resize(need);
       return buf.data() + at;
     };
@@ -285,9 +287,11 @@ void NeighborList::fill_rows_host(int n, RowFn row_fn) {
     }
     thread_candidates_[static_cast<std::size_t>(rank)] = scanned;
   }
-  resize_for_overwrite(index_, static_cast<std::size_t>(prefix_sum()));
-  candidates_ = 0;
-  for (int t = 0; t < team_used; ++t) {
+  const std::size_t entries = static_cast<std::size_t>(prefix_sum());
+  if (index_.capacity() < entries) index_.reserve(entries);  // exactly: the first run is kept
+  index_.resize(entries);
+  candidates_ = thread_candidates_[0];
+  for (int t = 1; t < team_used; ++t) {
     const std::vector<int>& buf = thread_rows_[static_cast<std::size_t>(t)];
     std::copy(buf.begin(), buf.end(), index_.begin() + off[first_row(t, team_used)]);
     candidates_ += thread_candidates_[static_cast<std::size_t>(t)];
