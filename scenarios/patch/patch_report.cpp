@@ -142,9 +142,14 @@ void PatchCasesCsv::write(const PatchCaseResult& r) {
   if (!out_) throw input_error("output.directory", "cases.csv", "writing failed (disk full?)");
 }
 
+const std::vector<std::string>& patch_curve_columns() {
+  static const std::vector<std::string> columns{"step",     "strain",   "eps_yy",   "sigma_xx", "sigma_yy",
+                                                "sigma_zz", "sigma_xy", "sigma_xz", "sigma_yz", "kinetic_energy"};
+  return columns;
+}
+
 void write_curve_csv(const std::string& path, const StrengthResult& r) {
-  ThermoCsv csv(path, {"step", "strain", "eps_yy", "sigma_xx", "sigma_yy", "sigma_zz", "sigma_xy", "sigma_xz",
-                       "sigma_yz", "kinetic_energy"});
+  ThermoCsv csv(path, patch_curve_columns());
   for (const StressStrainPoint& p : r.curve)
     csv.write_row({static_cast<double>(p.step), p.strain, p.eps_yy, p.stress.xx, p.stress.yy, p.stress.zz, p.stress.xy,
                    p.stress.xz, p.stress.yz, p.kinetic_energy});

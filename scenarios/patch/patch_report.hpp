@@ -42,6 +42,8 @@ class PatchCasesCsv {
   std::ofstream out_;
 };
 
+/// The columns of a strength test's stress-strain CSV (write_curve_csv), in order.
+const std::vector<std::string>& patch_curve_columns();
 /// Writes the stress-strain curve of a strength test as CSV.
 void write_curve_csv(const std::string& path, const StrengthResult& r);
 

@@ -39,12 +39,16 @@ std::vector<std::string> split_fields(const std::string& line) {
   return f;
 }
 
-// A number as the writer wrote it (17 digits: the same bits); empty: 0. Anything else: not our table.
-double number(const std::string& s, const std::string& where) {
-  if (s.empty()) return 0.0;
-  double v = 0;
+// The whole of s as a number (17 digits as written: the same bits).
+bool parse(const std::string& s, double& v) {
   const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (ec != std::errc() || ptr != s.data() + s.size())
+  return ec == std::errc() && ptr == s.data() + s.size();
+}
+
+// A number of cases.csv; empty: 0. Anything else: not our table.
+double number(const std::string& s, const std::string& where) {
+  double v = 0;
+  if (!s.empty() && !parse(s, v))
     throw input_error("--resume", where, "holds '" + s + "' where a number belongs; is it debris_patch's table?");
   return v;
 }
@@ -61,15 +65,13 @@ bool read_curve(const fs::path& path, std::vector<StressStrainPoint>& curve) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
   if (!in || !std::getline(in, line)) return false;
-  if (line != "step,strain,eps_yy,sigma_xx,sigma_yy,sigma_zz,sigma_xy,sigma_xz,sigma_yz,kinetic_energy") return false;
+  if (split_fields(line) != patch_curve_columns()) return false;
   while (std::getline(in, line)) {
     const std::vector<std::string> f = split_fields(line);
     if (f.size() != 10) return false;
     double v[10];
-    for (int k = 0; k < 10; ++k) {
-      const auto [ptr, ec] = std::from_chars(f[k].data(), f[k].data() + f[k].size(), v[k]);
-      if (ec != std::errc() || ptr != f[k].data() + f[k].size()) return false;
-    }
+    for (int k = 0; k < 10; ++k)
+      if (!parse(f[k], v[k])) return false;
     curve.push_back({static_cast<long>(v[0]), v[1], v[2], {v[3], v[4], v[5], v[6], v[7], v[8]}, v[9]});
   }
   return true;
