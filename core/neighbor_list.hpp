@@ -217,9 +217,12 @@ class NeighborList {
   // fills grids_ (kernel view), grid_start_ and grid_sorted_.
   void bin_classes(const BoxView& box, const Particles& p, const double* reach);
   // Host threads: offset_ and index_ from row_fn(i, room), which returns row i's length after writing it to
-  // room(bound), a buffer for at most `bound` entries.
+  // room(bound), a buffer for at most `bound` entries. Host builds only: offload builds fill on the device
+  // (and their index_ is a device-mapped vector, not a row buffer).
+#if !defined(DEBRIS_OFFLOAD_TARGET)
   template <class RowFn>
   void fill_rows_host(int n, RowFn row_fn);
+#endif
 
   CellList cells_;
   // Size classes (used when classes_.count > 1): class of each particle, members of each class (ascending,
@@ -252,6 +255,7 @@ class NeighborList {
   void sort_rows();
 };
 
+#if !defined(DEBRIS_OFFLOAD_TARGET)
 template <class RowFn>
 void NeighborList::fill_rows_host(int n, RowFn row_fn) {
   // One scan. Each thread takes a contiguous run of rows and appends them to its own buffer (with room for
@@ -297,6 +301,7 @@ void NeighborList::fill_rows_host(int n, RowFn row_fn) {
     candidates_ += thread_candidates_[static_cast<std::size_t>(t)];
   }
 }
+#endif
 
 template <class Cutoff>
 void NeighborList::build(const BoxView& box, const Particles& p, Cutoff cutoff, double max_cutoff, double skin,
