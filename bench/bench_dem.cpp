@@ -419,6 +419,12 @@ void BM_StepPolydisperse(benchmark::State& state) {
   state.counters["size_classes"] = sim.neighbors().size_classes().count;
   state.counters["skin_nm"] = sim.skin() * 1e9;
   state.counters["bytes_per_particle"] = sim.bytes_per_particle();
+  // Where they go: particle columns, list (with its cells), history, and the contact pass's own (B_other).
+  const Footprint f = footprint(static_cast<std::size_t>(n), sim.neighbors(), sim.history());
+  state.counters["B_particles"] = f.particles;
+  state.counters["B_list"] = f.list;
+  state.counters["B_history"] = f.history;
+  state.counters["B_other"] = sim.bytes_per_particle() - f.total();
   if (first_non_finite(std::as_const(sim).particles()) >= 0) state.SkipWithError("the simulation blew up");
 }
 

@@ -47,7 +47,7 @@ CellList::Grid CellList::grid_for(const BoxView& box, long long n, double min_ce
 }
 
 void CellList::build(const BoxView& box, const double* x, const double* y, const double* z, int n,
-                     double min_cell_size) {
+                     double min_cell_size, const int* gather) {
   const Grid g = grid_for(box, n, min_cell_size);
   for (int a = 0; a < 3; ++a) {
     dims_[a] = g.dims[static_cast<std::size_t>(a)];
@@ -74,13 +74,26 @@ void CellList::build(const BoxView& box, const double* x, const double* y, const
   const double inv0 = 1.0 / edge_[0], inv1 = 1.0 / edge_[1], inv2 = 1.0 / edge_[2];
   const int n0 = dims_[0], n1 = dims_[1], n2 = dims_[2];
   const int p0 = box.periodic[0], p1 = box.periodic[1], p2 = box.periodic[2];
-  DEBRIS_RESIDENT(px, py, pz, cell);
-  DEBRIS_KERNEL
-  for (int i = 0; i < n; ++i) {
-    const int cx = cell_coordinate(px[i], lo0, inv0, n0, p0);
-    const int cy = cell_coordinate(py[i], lo1, inv1, n1, p1);
-    const int cz = cell_coordinate(pz[i], lo2, inv2, n2, p2);
-    cell[i] = cx + n0 * (cy + n1 * cz);
+  if (gather) {
+    const int* __restrict at = gather;
+    DEBRIS_RESIDENT(px, py, pz, at, cell);
+    DEBRIS_KERNEL
+    for (int i = 0; i < n; ++i) {
+      const int a = at[i];
+      const int cx = cell_coordinate(px[a], lo0, inv0, n0, p0);
+      const int cy = cell_coordinate(py[a], lo1, inv1, n1, p1);
+      const int cz = cell_coordinate(pz[a], lo2, inv2, n2, p2);
+      cell[i] = cx + n0 * (cy + n1 * cz);
+    }
+  } else {
+    DEBRIS_RESIDENT(px, py, pz, cell);
+    DEBRIS_KERNEL
+    for (int i = 0; i < n; ++i) {
+      const int cx = cell_coordinate(px[i], lo0, inv0, n0, p0);
+      const int cy = cell_coordinate(py[i], lo1, inv1, n1, p1);
+      const int cz = cell_coordinate(pz[i], lo2, inv2, n2, p2);
+      cell[i] = cx + n0 * (cy + n1 * cz);
+    }
   }
 
 #if defined(DEBRIS_OFFLOAD_TARGET)

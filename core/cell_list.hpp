@@ -51,7 +51,10 @@ class CellList {
   /// clamped into the first / last cell, which keeps neighbours within one cell of each other.
   /// The grid is coarsened if it would exceed max_cells(n) cells (sparse systems in large boxes).
   /// Throws InputError ("cell_list.min_cell_size") unless min_cell_size is finite and > 0.
-  void build(const BoxView& box, const double* x, const double* y, const double* z, int n, double min_cell_size);
+  /// With `gather`, particle i of the n is the one at gather[i] in x, y, z (a subset binned without a copy of
+  /// its coordinates); sorted_index() and cell_of() still count 0 .. n-1.
+  void build(const BoxView& box, const double* x, const double* y, const double* z, int n, double min_cell_size,
+             const int* gather = nullptr);
 
   std::array<int, 3> dims() const { return {dims_[0], dims_[1], dims_[2]}; }
   int cell_count() const { return dims_[0] * dims_[1] * dims_[2]; }

@@ -40,9 +40,6 @@ void NeighborList::bin_classes(const BoxView& box, const Particles& p, const dou
   for (int c = 0; c < k; ++c) first[c + 1] = first[c] + classes_.members[c];
   resize_for_overwrite(class_of_, un);
   resize_for_overwrite(members_, un);
-  resize_for_overwrite(member_x_, un);
-  resize_for_overwrite(member_y_, un);
-  resize_for_overwrite(member_z_, un);
   const double* __restrict r = p.radius.data();
   const double* __restrict x = p.x.data();
   const double* __restrict y = p.y.data();
@@ -54,14 +51,11 @@ void NeighborList::bin_classes(const BoxView& box, const Particles& p, const dou
   for (int i = 0; i < n; ++i) cls[i] = size_class(r[i], k, l1, l2, l3);
   // Members of each class in increasing index (a stable partition: one prefix sum of "is in class c" per
   // class), so that every cell of every grid lists its particles in increasing index, as the single grid
-  // does (the half list relies on it). Their coordinates are gathered beside them.
+  // does (the half list relies on it).
   exec::DeviceVector<int> rank;  // transient: n ints for the duration of the binning
   resize_for_overwrite(rank, un);
   int* __restrict rk = rank.data();
   int* __restrict mem = members_.data();
-  double* __restrict mx = member_x_.data();
-  double* __restrict my = member_y_.data();
-  double* __restrict mz = member_z_.data();
   for (int c = 0; c < k; ++c) {
     if (classes_.members[c] == 0) continue;
     DEBRIS_RESIDENT(cls, rk);
@@ -73,35 +67,29 @@ void NeighborList::bin_classes(const BoxView& box, const Particles& p, const dou
                              std::to_string(in_class) + " particles, its count says " +
                              std::to_string(classes_.members[c]));
     const int base = first[c] - 1;  // rk[i] is 1-based within the class
-    DEBRIS_RESIDENT(cls, rk, mem, mx, my, mz, x, y, z);
+    DEBRIS_RESIDENT(cls, rk, mem);
     DEBRIS_KERNEL
-    for (int i = 0; i < n; ++i) {
-      if (cls[i] != c) continue;
-      const int at = base + rk[i];
-      mem[at] = i;
-      mx[at] = x[i];
-      my[at] = y[i];
-      mz[at] = z[i];
-    }
+    for (int i = 0; i < n; ++i)
+      if (cls[i] == c) mem[base + rk[i]] = i;
   }
 
-  // Grid (a, c): class c's members in cells at least reach(a, c) wide.
-  class_cells_.resize(static_cast<std::size_t>(k * k));
+  // Grid (a, c): class c's members in cells at least reach(a, c) wide. All grids go into two flat arrays
+  // (cell starts index the shared particle array directly, and each grid's entries are particle indices,
+  // not member ranks), sized from the grids' dimensions first; then one CellList bins each grid in turn
+  // (reading the members' coordinates through members_) and is copied into place, so the build holds one
+  // grid's binning at a time, not k^2 of them.
   grids_ = ClassGrids{};
   grids_.classes = k;
   std::size_t starts = 0, sorted = 0;
   for (int a = 0; a < k; ++a)
     for (int c = 0; c < k; ++c) {
       if (classes_.members[a] == 0 || classes_.members[c] == 0) continue;
-      CellList& cl = class_cells_[static_cast<std::size_t>(a * k + c)];
-      const std::size_t m0 = static_cast<std::size_t>(first[c]);
-      cl.build(box, member_x_.data() + m0, member_y_.data() + m0, member_z_.data() + m0, classes_.members[c],
-               reach[a * k + c]);
-      starts += static_cast<std::size_t>(cl.cell_count()) + 1;
+      const CellList::Grid g = CellList::grid_for(box, classes_.members[c], reach[a * k + c]);
+      starts += static_cast<std::size_t>(g.dims[0]) * static_cast<std::size_t>(g.dims[1]) *
+                    static_cast<std::size_t>(g.dims[2]) +
+                1;
       sorted += static_cast<std::size_t>(classes_.members[c]);
     }
-  // All grids in two flat arrays; cell starts index the shared particle array directly, and each grid's
-  // particle indices become particle indices (not member ranks).
   resize_for_overwrite(grid_start_, starts);
   resize_for_overwrite(grid_sorted_, sorted);
   int* __restrict gs = grid_start_.data();
@@ -110,7 +98,9 @@ void NeighborList::bin_classes(const BoxView& box, const Particles& p, const dou
   for (int a = 0; a < k; ++a)
     for (int c = 0; c < k; ++c) {
       if (classes_.members[a] == 0 || classes_.members[c] == 0) continue;
-      const CellList& cl = class_cells_[static_cast<std::size_t>(a * k + c)];
+      CellList& cl = grid_cells_;
+      const int* m = mem + first[c];
+      cl.build(box, x, y, z, classes_.members[c], reach[a * k + c], m);
       ClassGrid& g = grids_.g[a * k + c];
       const std::array<int, 3> dims = cl.dims();
       const std::array<double, 3> edge = cl.cell_edge();
@@ -123,7 +113,6 @@ void NeighborList::bin_classes(const BoxView& box, const Particles& p, const dou
       const int cells1 = cl.cell_count() + 1, members = classes_.members[c], s0 = start_base, i0 = sorted_base;
       const int* __restrict cs = cl.cell_start().data();
       const int* __restrict si = cl.sorted_index().data();
-      const int* __restrict m = mem + first[c];
       DEBRIS_RESIDENT(cs, gs);
       DEBRIS_KERNEL
       for (int j = 0; j < cells1; ++j) gs[s0 + j] = cs[j] + i0;
@@ -308,10 +297,9 @@ void NeighborList::sort_rows() {
 std::size_t NeighborList::bytes() const {
   std::size_t staged = 0;
   for (const auto& rows : thread_rows_) staged += rows.capacity();
-  std::size_t classes = sizeof(int) * (class_of_.capacity() + members_.capacity() + grid_start_.capacity() +
-                                       grid_sorted_.capacity()) +
-                        sizeof(double) * (member_x_.capacity() + member_y_.capacity() + member_z_.capacity());
-  for (const CellList& cl : class_cells_) classes += cl.bytes();
+  const std::size_t classes =
+      sizeof(int) * (class_of_.capacity() + members_.capacity() + grid_start_.capacity() + grid_sorted_.capacity()) +
+      grid_cells_.bytes();
   return sizeof(int) * (offset_.capacity() + index_.capacity() + staged) +
          sizeof(double) * (x0_.capacity() + y0_.capacity() + z0_.capacity()) + cells_.bytes() + classes;
 }

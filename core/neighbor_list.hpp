@@ -226,16 +226,15 @@ class NeighborList {
 
   CellList cells_;
   // Size classes (used when classes_.count > 1): class of each particle, members of each class (ascending,
-  // class after class) and their coordinates, one cell list per class pair, and all grids' cell starts and
-  // particle indices, concatenated so that a kernel sees two flat arrays.
+  // class after class), one cell list that bins each class pair's grid in turn, and all grids' cell starts
+  // and particle indices, concatenated so that a kernel sees two flat arrays.
   int max_classes_ = SizeClasses::kMax;
   SizeClasses classes_;
   ClassGrids grids_;
   // Offload builds: all on the device, where the binning runs.
   exec::DeviceVector<int> class_of_;
   exec::DeviceVector<int> members_;
-  exec::DeviceVector<double> member_x_, member_y_, member_z_;
-  std::vector<CellList> class_cells_;
+  CellList grid_cells_;  // bins one class grid at a time (bin_classes), then copied into the flat arrays
   exec::DeviceVector<int> grid_start_, grid_sorted_;
   std::vector<long long> thread_candidates_;
   long long candidates_ = 0;
