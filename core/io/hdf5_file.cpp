@@ -574,7 +574,9 @@ File::File(const std::string& path, Mode mode, FileOptions options) : Location(H
   quiet();
   Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose), fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
   if (!fapl.valid() || !fcpl.valid() || (!options.file_locking && H5Pset_file_locking(fapl.id(), 0, 1) < 0) ||
-      (options.group_leaf_k > 0 && H5Pset_sym_k(fcpl.id(), 0, options.group_leaf_k) < 0)) {
+      (options.group_leaf_k > 0 && H5Pset_sym_k(fcpl.id(), 0, options.group_leaf_k) < 0) ||
+      (options.survives_kill &&
+       (H5Pset_meta_block_size(fapl.id(), 0) < 0 || H5Pset_small_data_block_size(fapl.id(), 0) < 0))) {
     throw std::runtime_error("HDF5: cannot set up access to file '" + path + "': " + reason());
   }
   if (options.all_ranks) all_ranks_ = comm::hdf5_access_on_all_ranks(fapl.id());

@@ -240,6 +240,15 @@ struct FileOptions {
   /// Every rank of an MPI run opens the file together (see the top of this header). Nothing changes in a
   /// serial build or a run of one rank.
   bool all_ranks = false;
+  /// A process killed at any moment while it writes leaves a file HDF5 still opens (the writer's own
+  /// commit order decides what it then holds). HDF5 (1.10, seen with strace) refuses a file shorter
+  /// than the end of file its superblock records ("truncated file"), and a close made one: it gives back
+  /// the unused tails of its metadata and small-data aggregation blocks, truncates the file to the lower
+  /// end, and only then rewrites the superblock that still holds the last flush's larger one. So such a
+  /// file aggregates nothing (H5Pset_meta_block_size and H5Pset_small_data_block_size 0). A flush that
+  /// extends the file writes its superblock after the extension, so growth needs nothing. For outputs
+  /// appended to in place, such as trajectories.
+  bool survives_kill = false;
 };
 
 class File : public Location {
