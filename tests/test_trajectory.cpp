@@ -542,8 +542,8 @@ void kill_and_check(const std::string& dir, std::chrono::microseconds delay, int
 }
 
 TEST(TrajectoryKilledRun, EveryFrameTheXmfListsIsReadable) {
-  // Kills land at different points of a frame (one takes about 3 ms here): right after the .xmf changed,
-  // then every 250 us over two frames. A kill inside HDF5's close once left a file shorter than its
+  // Kills land at different points of a frame (a few ms each here): right after the .xmf changed, and
+  // then every 250 us for 6 ms. A kill inside HDF5's close once left a file shorter than its
   // superblock said, which HDF5 refuses to open; that window is a few syscalls wide, so many rounds.
   for (int round = 0; round <= 24; ++round) {
     const auto delay = std::chrono::microseconds(250 * round);
