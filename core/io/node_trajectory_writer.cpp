@@ -52,11 +52,7 @@ NodeTrajectoryWriter::NodeTrajectoryWriter(const std::string& dir, const std::st
     volume[r] = nodes.volume[i];
   }
   try {
-    h5::File file(h5_path_, h5::File::Mode::create,
-                  {.file_locking = false,
-                   .group_leaf_k = xdmf::kFramesPerLeaf / 2,
-                   .all_ranks = all_ranks_,
-                   .survives_kill = true});
+    h5::File file(h5_path_, h5::File::Mode::create, xdmf::frames_file_options(all_ranks_));
     file.set_string_attribute("format",
                               "debris node trajectory 1: nodes/{id,grain,volume}, grains/{name,kind}, "
                               "frames/<k>/{position,velocity,force,damage,broken_fraction}");
@@ -102,8 +98,7 @@ void NodeTrajectoryWriter::write_frame(long step, double time, const PdNodes& no
   const std::size_t k = frames_.size();
   try {
     // Open only inside this block; the frame is flushed before it is linked (trajectory_writer.cpp).
-    h5::File file(h5_path_, h5::File::Mode::read_write,
-                  {.file_locking = false, .all_ranks = all_ranks_, .survives_kill = true});
+    h5::File file(h5_path_, h5::File::Mode::read_write, xdmf::frames_file_options(all_ranks_));
     {
       h5::Group g = file.create_unlinked_group({.small = true});
       const h5::RowSelection one(share.rows, {share.total}), three(share.rows, {share.total, 3});

@@ -22,11 +22,7 @@ TrajectoryWriter::TrajectoryWriter(const std::string& dir, const std::string& st
       all_ranks_(all_ranks) {
   xdmf::check_stem(stem);
   try {
-    h5::File file(h5_path_, h5::File::Mode::create,
-                  {.file_locking = false,
-                   .group_leaf_k = xdmf::kFramesPerLeaf / 2,
-                   .all_ranks = all_ranks_,
-                   .survives_kill = true});
+    h5::File file(h5_path_, h5::File::Mode::create, xdmf::frames_file_options(all_ranks_));
     file.set_string_attribute("format", "debris trajectory 1: frames/<k>/{position,id,type,radius,velocity,force,group,angular_velocity,image,label,label_names}");
     file.write_strings("group_names", group_names_);
     file.create_group("frames", {.reserved_name_bytes = xdmf::kFrameNameBytes});
@@ -88,8 +84,7 @@ void TrajectoryWriter::write_frame(long step, double time, const Box& box, const
     // Within the block, a two-step commit: the frame is built as a group linked nowhere and flushed, so
     // its data and the new end of file are on disk before anything the file already held is touched;
     // only then does linking it as /frames/<k> rewrite the index of /frames, and close() flushes that.
-    h5::File file(h5_path_, h5::File::Mode::read_write,
-                  {.file_locking = false, .all_ranks = all_ranks_, .survives_kill = true});
+    h5::File file(h5_path_, h5::File::Mode::read_write, xdmf::frames_file_options(all_ranks_));
     {
       h5::Group g = file.create_unlinked_group({.small = true});
       const h5::RowSelection one(share.rows, {share.total}), three(share.rows, {share.total, 3});

@@ -6,6 +6,8 @@
 #include <cstddef>
 #include <string>
 
+#include "core/io/hdf5_file.hpp"
+
 namespace debris::xdmf {
 
 // Linking a frame rewrites the index of /frames in place, which a kill between two writes cannot damage;
@@ -15,6 +17,13 @@ namespace debris::xdmf {
 // ~85 KiB rewritten per frame.
 constexpr unsigned kFramesPerLeaf = 512;
 constexpr std::size_t kFrameNameBytes = 8 * 8192;
+
+/// How both writers create and reopen their .h5: no lock (a viewer may hold the file while a run appends),
+/// index leaves sized as above (used at creation only), and no space a close could give back
+/// (FileOptions::survives_kill).
+inline h5::FileOptions frames_file_options(bool all_ranks) {
+  return {.file_locking = false, .group_leaf_k = kFramesPerLeaf / 2, .all_ranks = all_ranks, .survives_kill = true};
+}
 
 /// InputError ("output") unless `stem` can name the .h5 inside the .xmf: XDMF splits "file.h5:/path" at the
 /// colon, and the reference must stay relative to the .xmf.
