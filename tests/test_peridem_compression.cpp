@@ -209,12 +209,15 @@ TEST(PeridemCompression, LidForceStartsRisesAndTheGrainsBreak) {
     EXPECT_NEAR(s.mean_ry + weight, -s.dpy_rate, 1e-6 * weight);
     EXPECT_NEAR(s.mean_rx, -s.dpx_rate, 1e-6 * weight);
   }
-  // Quasi-static late in the press: the pack's momentum change is under 1% of the lid's push, and the
+  // Quasi-static late in the press: the pack's momentum change is small beside the lid's push, and the
   // summed reactions are minus the weight within that change (the floor and side walls carry lid + weight).
+  // "Small" is 5%: the grains are breaking in this window, and runs that differ only in round-off (the
+  // bond force's V_i multiplied before or after the sum; each bond evaluated once or from both ends) gave
+  // 0.1%, 0.5% and 2.2% of the lid's push, so 1% passed or failed by the last bits of a chaotic run.
   const Balance q = balance(12000, 15000);
   std::printf("[ info ] steps 12000-15000: mean lid %.4g N, sum of reactions %.6g N, weight %.6g N, dP_y/T %.4g N\n",
               q.mean_lid, q.mean_ry, weight, q.dpy_rate);
-  EXPECT_LT(std::abs(q.dpy_rate), 0.01 * q.mean_lid);
+  EXPECT_LT(std::abs(q.dpy_rate), 0.05 * q.mean_lid);
   EXPECT_NEAR(q.mean_ry, -weight, std::abs(q.dpy_rate) + 1e-6 * weight);
   // The same balance read as what the floor and the side walls carry (their reactions: all but the lid's).
   EXPECT_NEAR(q.mean_ry - q.mean_lid, -(q.mean_lid + weight), std::abs(q.dpy_rate) + 1e-6 * weight);

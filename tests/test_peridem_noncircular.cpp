@@ -119,10 +119,16 @@ TEST(PeridemNoncircular, ConcaveGrainReboundsFromAConcaveGrainWithBoundedDamage)
   EXPECT_LT(e_end, e0);  // damped and broken: energy is gone
 
   // The top grain's velocity reverses: it rebounds at a fraction of its impact speed (damping, eps = 0.95,
-  // and the energy spent in fracture), out of contact at the end.
+  // and the energy spent in fracture), and rises through the whole second half of the run. (Not "no contact
+  // pair at the end": contact_pairs also counts the pairs between the top grain's own pieces where its bonds
+  // broke, which flicker between 0 and 3 over steps 1,100-2,000 in runs that differ only in round-off: one
+  // was 0 at step 2,000, another 1.)
   const std::vector<double>& last = t.rows.back();
-  EXPECT_EQ(last[pairs], 0);
   EXPECT_GT(last[vy], 0.0);
+  for (std::size_t r = t.rows.size() / 2; r < t.rows.size(); ++r) {
+    EXPECT_GT(t.rows[r][vy], 0.0) << "step " << t.rows[r][0];
+    EXPECT_GT(t.rows[r][y], t.rows[r - 1][y]) << "step " << t.rows[r][0];
+  }
   const double c_r = std::hypot(last[vx], last[vy]) / v0;
   EXPECT_LE(c_r, std::sqrt(1 + 2 * g * (y0 - last[y]) / (v0 * v0)));  // energy bound (replaces vy < 8)
   EXPECT_LE(0.5 * m.top * (last[vx] * last[vx] + last[vy] * last[vy]), last[ke] * (1 + 1e-12));
