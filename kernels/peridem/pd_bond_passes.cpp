@@ -181,7 +181,6 @@ struct RowInputs {
   double *fx, *fy, *fz;
   int n, blocks, entries;
   int do_break, do_theta, do_factors;
-  const int* grain_first;  // node_begin of each grain (the host force sweep's blocks are whole grains)
 };
 
 DEBRIS_DECLARE_TARGET
@@ -319,69 +318,6 @@ DEBRIS_PD_ROW_CLONES void bond_force_rows(const RowInputs& in, int r0, int r1) {
 
 DEBRIS_END_DECLARE_TARGET
 
-// Host builds: rows [r0, r1), whole grains, each intact bond's force once. Eq 33's bond term times V_i is
-// V_i V_j J ((P_i + P_j) x + (Q_i + Q_j) e) / |y| y: symmetric in i and j but for y, which changes sign, so
-// the bond pushes j exactly as it pulls i. Row i evaluates its bonds with partner j > i (a suffix: rows are
-// sorted), adds their sum to f_i and subtracts each from f_j. Bonds never leave a grain, so a thread that
-// sweeps whole grains writes only its own nodes, and node i's sum has the same order (the scattered terms of
-// rows j < i in row order, then its own) on any thread count. Half the square roots and divisions of
-// bond_force_rows, which evaluates every bond from both ends (offload builds keep that: a device thread per
-// row, no scatter).
-DEBRIS_PD_ROW_CLONES void bond_force_half_rows(const RowInputs& in, int r0, int r1) {
-  const int* __restrict offset = in.offset;
-  const int* __restrict partner = in.partner;
-  const double* __restrict length0 = in.length0;
-  const unsigned char* __restrict broken = in.broken;
-  const double* __restrict x = in.x, * __restrict y = in.y, * __restrict z = in.z;
-  const double* __restrict volume = in.volume;
-  const double* __restrict factors = in.factors;
-  double* __restrict fx = in.fx, * __restrict fy = in.fy, * __restrict fz = in.fz;
-  const int entries = in.entries;
-  double ux[kStage], uy[kStage], uz[kStage], keep[kStage];
-  for (int i = r0; i < r1; ++i) {
-    const int end = offset[i + 1];
-    const int begin = static_cast<int>(std::upper_bound(partner + offset[i], partner + end, i) - partner);
-    if (begin == end) continue;
-    const double inv_horizon = 1.0 / in.lps[in.material[in.grain[i]]].horizon;
-    const double xi = x[i], yi = y[i], zi = z[i], v_i = volume[i];
-    const double p_i = factors[2 * i], q_i = factors[2 * i + 1];
-    double Fx = 0.0, Fy = 0.0, Fz = 0.0;
-    for (int k0 = begin; k0 < end; k0 += kStage) {
-      const int count = end - k0 < kStage ? end - k0 : kStage;
-      intact_factors(broken, k0, count, keep);
-      const int lanes = padded_count(k0, count, entries);
-      DEBRIS_SIMD
-      for (int t = 0; t < lanes; ++t) {  // as in bond_force_rows, times V_i
-        const int k = k0 + t, j = partner[k];
-        const double dx = x[j] - xi, dy = y[j] - yi, dz = z[j] - zi;
-        const double x0 = length0[k], v_j = volume[j], p_j = factors[2 * j], q_j = factors[2 * j + 1];
-        const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
-        const double has_length = static_cast<double>(length > 0.0);
-        const double inv_length = has_length / (length + (1.0 - has_length));
-        const double a = x0 * inv_horizon;
-        const double J = std::max(1.0 - a, 0.0);
-        const double s =
-            keep[t] * v_i * lps_bond_force_scale(J, x0, length - x0, v_j, p_i + p_j, q_i + q_j, inv_length);
-        ux[t] = s * dx;
-        uy[t] = s * dy;
-        uz[t] = s * dz;
-      }
-      Fx += sum4(ux, count);
-      Fy += sum4(uy, count);
-      Fz += sum4(uz, count);
-      for (int t = 0; t < count; ++t) {  // the partner's share, in row order
-        const int j = partner[k0 + t];
-        fx[j] -= ux[t];
-        fy[j] -= uy[t];
-        fz[j] -= uz[t];
-      }
-    }
-    fx[i] += Fx;
-    fy[i] += Fy;
-    fz[i] += Fz;
-  }
-}
-
 // Everything the row kernels read; the outputs (theta, force) only from a mutable PdNodes (with_outputs).
 RowInputs row_inputs(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                      const PdNodes& nodes) {
@@ -403,7 +339,6 @@ RowInputs row_inputs(const PdLpsTable& lps, const PdGrains& grains, const BondLi
   in.n = b.n;
   in.entries = static_cast<int>(bonds.entries());
   in.blocks = row_blocks(b.n, in.entries);
-  in.grain_first = grains.node_begin.data();
   return in;
 }
 
@@ -431,7 +366,7 @@ RowInputs row_inputs_with_outputs(const PdLpsTable& lps, const PdGrains& grains,
 #define DEBRIS_PD_ROW_INPUTS                                                                                           \
   RowInputs {                                                                                                          \
     offset, partner, length0, broken, grain, material, lps, x, y, z, volume, m, theta, factors, fx, fy, fz, n, blocks, \
-        entries, do_break, do_theta, do_factors, nullptr \
+        entries, do_break, do_theta, do_factors                                                                        \
   }
 
 long run_break_and_dilate(const RowInputs& host) {
@@ -447,18 +382,6 @@ long run_break_and_dilate(const RowInputs& host) {
 }
 
 void run_bond_force(const RowInputs& host) {
-  if constexpr (!exec::offload_build()) {
-    // Blocks of about equal bond entries, each widened or narrowed to whole grains: its first row moved back
-    // to the first node of that row's grain (bond_force_half_rows).
-    const RowInputs& in = host;
-    const int n = in.n, blocks = in.blocks;
-    const auto grain_start = [&](int r) { return r >= n ? n : in.grain_first[in.grain[r]]; };
-    DEBRIS_KERNEL
-    for (int b = 0; b < blocks; ++b)
-      bond_force_half_rows(in, grain_start(block_row(in.offset, n, blocks, b)),
-                           grain_start(block_row(in.offset, n, blocks, b + 1)));
-    return;
-  }
   DEBRIS_PD_ROW_LOCALS(host);
   DEBRIS_RESIDENT(offset, partner, grain, material, length0, x, y, z, volume, lps, broken, factors, fx, fy, fz);
   DEBRIS_KERNEL

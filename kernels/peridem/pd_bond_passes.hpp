@@ -1,21 +1,17 @@
 #pragma once
 // The peridynamic bond passes of paper B (sections 2.1.1 and 3.1): kernels/peridem/lps_bond_force.hpp over the
-// bond list. The bond list stores every bond from both ends, rows sorted by partner. Offload builds evaluate
-// every bond from both ends, a device thread per row writing only its own node and entries. Host builds
-// evaluate each bond once, from the row of its lower node, and hand the partner its share: bonds never leave
-// a grain, so threads that sweep whole grains write disjoint nodes, with no atomics. Either way the results
-// are bitwise the same for any thread count (not between the two ways: the sums' orders differ).
+// bond list. The bond list stores every bond from both ends, so each pass writes only to the row's own node
+// (and the row's own entries), with no atomics: the results are bitwise the same for any thread count.
 // The force needs theta at both ends of every bond, so dilatation and force are separate passes. One step:
 //
 //   pd_bond_step           h of eq 11 from the current stretch, theta_i of eqs 13/34 over the intact bonds
-//                          (a bond is decided before its terms are summed, at both ends alike), then
+//                          (row i breaks its own entries, then sums the intact ones), then
 //                          f_i += V_i F_i, F_i of eq 33 (force density; PdNodes stores newtons)
 //   pd_dilatation_pass     theta alone, and pd_bond_force_pass the force alone, for fixed bond states
 //                          (the stable step of eq 32 probes the stiffness with them)
 // pd_weighted_volume_pass runs once, in the reference state.
 //
-// How they run (kernels/peridem/pd_bond_passes.cpp): rows are handed to the threads in blocks of equal bond entries
-// (on the host, widened or narrowed to whole grains);
+// How they run (kernels/peridem/pd_bond_passes.cpp): rows are handed to the threads in blocks of equal bond entries;
 // within a row, a vector loop computes every entry's term into a small local array and a scalar loop sums
 // them in entry order, so the bits depend neither on the thread count nor on the vector width chosen at
 // run time (the host build also has an AVX2 + FMA version; FMA may change the last bits from one machine to
