@@ -101,7 +101,7 @@ TEST(PeridemNoncircular, ConcaveGrainReboundsFromAConcaveGrainWithBoundedDamage)
   const std::size_t vx = t.column("top_vx"), vy = t.column("top_vy"), y = t.column("top_y"),
                     top_broken = t.column("top_broken_bonds"), bottom_broken = t.column("bottom_broken_bonds"),
                     damage = t.column("max_damage"), ke = t.column("kinetic_energy"), bond = t.column("bond_energy"),
-                    contact = t.column("contact_energy"), pairs = t.column("contact_pairs");
+                    contact = t.column("contact_energy");
   const double v0 = 8.0, g = 10.0;
   EXPECT_EQ(t.rows.front()[vy], -v0);
 
@@ -132,11 +132,13 @@ TEST(PeridemNoncircular, ConcaveGrainReboundsFromAConcaveGrainWithBoundedDamage)
   const double c_r = std::hypot(last[vx], last[vy]) / v0;
   EXPECT_LE(c_r, std::sqrt(1 + 2 * g * (y0 - last[y]) / (v0 * v0)));  // energy bound (replaces vy < 8)
   EXPECT_LE(0.5 * m.top * (last[vx] * last[vx] + last[vy] * last[vy]), last[ke] * (1 + 1e-12));
-  // Regression (replaces 1.5 < vy < 8): 3% of the measured +2.442 m/s.
-  EXPECT_NEAR(last[vy], 2.442, 0.03 * 2.442);
+  // Regression (replaces 1.5 < vy < 8): 10% of the measured +2.442 m/s. Runs that differ only in round-off
+  // (the bond force's V_i multiplied before or after its sum, and the normal stiffness's products grouped
+  // otherwise) gave 2.29-2.44 m/s: the fracture is chaotic, so 3% passed or failed by the last bits.
+  EXPECT_NEAR(last[vy], 2.442, 0.10 * 2.442);
   // A fracture zone in the top grain where the bottom grain's corner entered its notch, bounded: a few
   // hundred of its ~6,000 bonds, not a shattered grain. Regression (replaces 100 < broken < 1500): 5% of
-  // the measured 429. The bottom grain is fixed (rigid), so never breaks.
+  // the measured 429 (those round-off variants: 412-429). The bottom grain is fixed (rigid), so never breaks.
   EXPECT_NEAR(last[top_broken], 429, 0.05 * 429);
   for (const auto& row : t.rows) {
     EXPECT_EQ(row[bottom_broken], 0) << "step " << row[0];
@@ -156,8 +158,8 @@ TEST(PeridemNoncircular, FreeConcaveGrainsConserveMomentumAndLoseEnergy) {
   ASSERT_EQ(t.rows.size(), 201u);
   const std::size_t tvx = t.column("top_vx"), tvy = t.column("top_vy"), bvx = t.column("bottom_vx"),
                     bvy = t.column("bottom_vy"), ke = t.column("kinetic_energy"), bond = t.column("bond_energy"),
-                    contact = t.column("contact_energy"), pairs = t.column("contact_pairs"),
-                    broken = t.column("broken_bonds");
+                    contact = t.column("contact_energy"), broken = t.column("broken_bonds"),
+                    ty = t.column("top_y"), by = t.column("bottom_y");
   const double v0 = 8.0, p0 = -m.top * v0, e0 = 0.5 * m.top * v0 * v0;
   const double e_com = 0.5 * p0 * p0 / (m.top + m.bottom);  // no internal force changes it
   double worst = 0;  // largest momentum residual over |P0|
@@ -172,7 +174,13 @@ TEST(PeridemNoncircular, FreeConcaveGrainsConserveMomentumAndLoseEnergy) {
     EXPECT_GE(row[ke], e_com * (1 - 1e-3));
   }
   const std::vector<double>& last = t.rows.back();
-  EXPECT_EQ(last[pairs], 0);  // separated
+  // Separated: over the last 40% of the run the grains' centres move apart at every row. (Not "no contact
+  // pair at the end": the pairs between the top grain's own broken pieces flicker between 0 and 2 there,
+  // and round-off alone decides whether step 2,000 has one.)
+  for (std::size_t r = t.rows.size() * 3 / 5; r < t.rows.size(); ++r) {
+    const auto &a = t.rows[r - 1], &b = t.rows[r];
+    EXPECT_GT(b[ty] - b[by], a[ty] - a[by]) << "step " << b[0];
+  }
   EXPECT_GT(last[broken], 0);
   // Restitution of the relative velocity, e = |v_top - v_bottom| after / v0 before: in [0, 1], and its
   // translational energy 1/2 mu (e v0)^2 fits in what is left above the centre-of-mass energy.
