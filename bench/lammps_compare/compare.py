@@ -61,10 +61,15 @@ def main():
     ap.add_argument("--debris", required=True, help="debris_dem executable")
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--steps", type=int, default=2000)
+    ap.add_argument("--debris-threads", default="1",
+                    help="comma-separated thread counts for debris_dem, each run every round (default: 1)")
     ap.add_argument("--dt", type=float, default=13.6792,
                     help="time step; debris prints dt = 13.6792 = 0.1 dt_c for this system")
     a = ap.parse_args()
     lmp, debris = os.path.abspath(a.lmp), os.path.abspath(a.debris)
+    counts = [int(t) for t in a.debris_threads.split(",")]
+    if not counts or min(counts) < 1:
+        sys.exit(f"--debris-threads: expected counts of 1 or more, got {a.debris_threads!r}")
 
     work = tempfile.mkdtemp(prefix="debris_lammps_compare_")
     for f in ("make_fcc.lmp", "run_fcc.lmp"):
@@ -79,24 +84,30 @@ def main():
     with open(os.path.join(work, "debris_fcc.yaml"), "w") as f:
         f.write(deck)
 
-    env = dict(os.environ, OMP_NUM_THREADS="1", OMP_WAIT_POLICY="passive")
-    best = {"lammps": (0, 0), "debris": (0, 0)}
+    # The wait policy is the caller's (GCC's default spins at barriers): OMP_WAIT_POLICY=passive, set here
+    # before 2026-12-06, costs debris's multi-thread runs a sleep and wake at each of a step's barriers.
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    best = {"lammps": (0, 0), **{t: (0, 0) for t in counts}}
     for k in range(a.rounds):
         out = run([lmp, "-in", "run_fcc.lmp", "-log", "none", "-var", "dt", repr(a.dt),
                    "-var", "steps", str(a.steps)], work, env)
         r = lammps_rate(out, a.steps)
         print(f"round {k + 1}: LAMMPS {r[0]:.3f} M particle-steps/s ({r[1]:.2f} s)", flush=True)
         best["lammps"] = max(best["lammps"], r)
-        out = run([debris, "-i", "debris_fcc.yaml", "--threads", "1"], work, env)
-        r = debris_rate(out, a.steps)
-        print(f"round {k + 1}: debris {r[0]:.3f} M particle-steps/s ({r[1]:.2f} s)", flush=True)
-        best["debris"] = max(best["debris"], r)
+        for t in counts:
+            out = run([debris, "-i", "debris_fcc.yaml", "--threads", str(t)], work,
+                      dict(env, OMP_NUM_THREADS=str(t)))
+            r = debris_rate(out, a.steps)
+            print(f"round {k + 1}: debris, {t} thread(s), {r[0]:.3f} M particle-steps/s ({r[1]:.2f} s)", flush=True)
+            best[t] = max(best[t], r)
     shutil.rmtree(work)
 
-    lam, deb = best["lammps"][0], best["debris"][0]
-    print(f"\n| N | steps | LAMMPS (author's style), 1 thread | debris_dem, 1 thread | ratio |")
-    print(f"|---|---|---|---|---|")
-    print(f"| {N:,} | {a.steps} | {lam:.2f} M | {deb:.2f} M | {deb / lam:.2f}x |")
+    lam = best["lammps"][0]
+    print(f"\n| N | steps | LAMMPS (author's style), 1 thread | debris_dem, threads | debris_dem | ratio |")
+    print(f"|---|---|---|---|---|---|")
+    for t in counts:
+        deb = best[t][0]
+        print(f"| {N:,} | {a.steps} | {lam:.2f} M | {t} | {deb:.2f} M | {deb / lam:.2f}x |")
 
 
 if __name__ == "__main__":
