@@ -4,17 +4,20 @@
 The system is BM_Step's benchmark packing at N = 32,000 (bench/bench_dem.cpp): LAMMPS writes it as a data
 file (make_fcc.lmp) and both codes read that file, so they start from the same positions, diameters,
 densities and velocities. Both run the same time step (0.1 dt_c of eq 6, as debris computes it) for the same
-number of steps on one thread, in interleaved rounds; the best round of each counts (a VM's neighbours only
+number of steps, in interleaved rounds: LAMMPS on one thread (the style has no OpenMP variant), debris once per
+round at each count of --debris-threads (default 1); the best round of each counts (a VM's neighbours only
 ever slow a round down). The time compared is the loop less its output in both codes: LAMMPS's "Loop time"
 less its Output row, debris's total less its set-up and output rows.
 
 LAMMPS needs the author's pair style gran/cohesive/history compiled in (S. Pham-Ba's public source; it is
 not part of debris). The measurement in the README was made with LAMMPS 7 Jan 2022 (Debian's source package,
 `apt-get source lammps`), built serial with cmake -D PKG_GRANULAR=yes -D BUILD_MPI=no
--D CMAKE_BUILD_TYPE=Release (-O3, as debris), with the style's two files added to src/GRANULAR.
+-D CMAKE_BUILD_TYPE=Release (-O3, as debris), with the style's two files added to src/GRANULAR (in that
+LAMMPS the style's forward_comm(this) is spelled forward_comm_pair(this); where an Open MPI runtime without
+its headers is installed, add -D CMAKE_DISABLE_FIND_PACKAGE_MPI=ON).
 
   python3 bench/lammps_compare/compare.py --lmp /path/to/lmp_serial --debris build/bin/debris_dem \
-      [--rounds 3] [--steps 2000]
+      [--rounds 3] [--steps 2000] [--debris-threads 1,2]
 
 Run it on a quiet machine; it prints one line per run and a summary table (markdown).
 """
