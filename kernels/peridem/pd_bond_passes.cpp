@@ -145,9 +145,9 @@ inline int padded_count(int k0, int count, int entries) {
   return k0 + padded <= entries ? padded : count;
 }
 
-// h of eqs 12-13 for entries [k0, k0 + count) as factors 1 (intact) or 0 (broken is 0 or 1) into keep, and
-// 0 for the padding lanes. Most rows have no broken bond: whole words of zero bytes are checked first.
-inline void intact_factors(const unsigned char* broken, int k0, int count, double* keep) {
+// Whether any of entries [k0, k0 + count) is broken (h = 0 in eqs 12-13), whole words of bytes at a time.
+// Most rows have none: their vector loops then compute every entry as intact and nothing is zeroed after.
+inline bool any_broken(const unsigned char* broken, int k0, int count) {
   unsigned long long any = 0;
   int t = 0;
   for (; t + 8 <= count; t += 8) {
@@ -156,13 +156,16 @@ inline void intact_factors(const unsigned char* broken, int k0, int count, doubl
     any |= word;
   }
   for (; t < count; ++t) any |= broken[k0 + t];
-  const int lanes = (count + kLanes - 1) / kLanes * kLanes;  // what padded_count may ask for
-  if (!any) {
-    for (t = 0; t < lanes; ++t) keep[t] = t < count ? 1.0 : 0.0;
-    return;
-  }
-  for (t = 0; t < count; ++t) keep[t] = 1.0 - static_cast<double>(broken[k0 + t]);
-  for (; t < lanes; ++t) keep[t] = 0.0;
+  return any != 0;
+}
+
+// h = 0 of eqs 12-13 applied after a stage's vector loop computed every entry as intact: the terms of the
+// broken entries among [k0, k0 + count) are set to 0 in each of the `columns` staged arrays. (Not a factor
+// inside the vector loop: filling and reading a factor per entry cost the sweeps 8-10% on rows that, almost
+// always, have no broken bond.)
+inline void zero_broken(const unsigned char* broken, int k0, int count, double* a, double* b, double* c) {
+  for (int t = 0; t < count; ++t)
+    if (broken[k0 + t]) a[t] = b[t] = c[t] = 0.0;
 }
 
 DEBRIS_END_DECLARE_TARGET
@@ -200,7 +203,7 @@ DEBRIS_PD_ROW_CLONES long break_and_dilate_rows(const RowInputs& in, int r0, int
   const int do_theta = in.do_theta, do_factors = in.do_factors, entries = in.entries;
   const double may_break = in.do_break ? 1.0 : 0.0;
   long marked = 0;
-  double term[kStage], near[kStage], extension[kStage], keep[kStage];
+  double term[kStage], near[kStage], extension[kStage];
   for (int i = r0; i < r1; ++i) {
     const int begin = offset[i], end = offset[i + 1];
     if (begin == end) {
@@ -218,9 +221,8 @@ DEBRIS_PD_ROW_CLONES long break_and_dilate_rows(const RowInputs& in, int r0, int
     double sum = 0.0;
     for (int k0 = begin; k0 < end; k0 += kStage) {
       const int count = end - k0 < kStage ? end - k0 : kStage;
-      intact_factors(broken, k0, count, keep);
       const int lanes = padded_count(k0, count, entries);
-      // Every entry's theta term (h = keep) and whether it is near breaking, in a vector loop: all loads
+      // Every entry's theta term (as if intact: h is applied after the loop) and whether it is near breaking, in a vector loop: all loads
       // unconditional, no byte column (it would make the vector 32 entries wide, longer than most rows), and
       // flags as factors 0 or 1 rather than selects between computed values (with trapping floating-point
       // math the compiler may move such a value under a branch, and then it does not vectorise the loop).
@@ -236,10 +238,12 @@ DEBRIS_PD_ROW_CLONES long break_and_dilate_rows(const RowInputs& in, int r0, int
         // it still means e / x0 < s_0 for certain): the factor is 2 then, else 0 (copysign, not a comparison,
         // which the compiler would turn into a branch).
         const double probe = e + both * (std::fabs(e) - e);  // e, or |e| when compression breaks bonds too
-        near[t] = keep[t] * may_break * (1.0 + std::copysign(1.0, probe - near_s0 * x0));
+        near[t] = may_break * (1.0 + std::copysign(1.0, probe - near_s0 * x0));
         extension[t] = e;
-        term[t] = keep[t] * lps_dilatation_term(J, x0, e, v_j);
+        term[t] = lps_dilatation_term(J, x0, e, v_j);
       }
+      // A bond broken before this step adds nothing to theta and is not broken again.
+      if (any_broken(broken, k0, count)) zero_broken(broken, k0, count, term, near, extension);
       if (sum4(near, count) > 0.0) {
         // Eq 11 exactly, lps_bond_breaks(lps_stretch(|y|, x0), s0): e / x0 is the stretch, the same bits
         // from either end of the bond, so both ends decide alike. Broken now: h = 0 in this step's theta.
@@ -274,7 +278,7 @@ DEBRIS_PD_ROW_CLONES void bond_force_rows(const RowInputs& in, int r0, int r1) {
   const double* __restrict factors = in.factors;
   double* __restrict fx = in.fx, * __restrict fy = in.fy, * __restrict fz = in.fz;
   const int entries = in.entries;
-  double ux[kStage], uy[kStage], uz[kStage], keep[kStage];
+  double ux[kStage], uy[kStage], uz[kStage];
   for (int i = r0; i < r1; ++i) {
     const int begin = offset[i], end = offset[i + 1];
     if (begin == end) continue;
@@ -284,10 +288,8 @@ DEBRIS_PD_ROW_CLONES void bond_force_rows(const RowInputs& in, int r0, int r1) {
     double Fx = 0.0, Fy = 0.0, Fz = 0.0;
     for (int k0 = begin; k0 < end; k0 += kStage) {
       const int count = end - k0 < kStage ? end - k0 : kStage;
-      intact_factors(broken, k0, count, keep);
       const int lanes = padded_count(k0, count, entries);
-      // As in break_and_dilate_rows. (A factor 0 times a non-finite term is NaN, not 0: only positions that
-      // blew up do that.)
+      // As in break_and_dilate_rows: every entry as if intact, the broken ones zeroed after the loop.
       DEBRIS_SIMD
       for (int t = 0; t < lanes; ++t) {
         const int k = k0 + t, j = partner[k];
@@ -299,12 +301,12 @@ DEBRIS_PD_ROW_CLONES void bond_force_rows(const RowInputs& in, int r0, int r1) {
         const double inv_length = has_length / (length + (1.0 - has_length));
         const double a = x0 * inv_horizon;
         const double J = std::max(1.0 - a, 0.0);  // lps_influence(a) for a >= 0, without a branch
-        const double s =
-            keep[t] * lps_bond_force_scale(J, x0, length - x0, v_j, p_i + p_j, q_i + q_j, inv_length);  // eq 12
+        const double s = lps_bond_force_scale(J, x0, length - x0, v_j, p_i + p_j, q_i + q_j, inv_length);  // eq 12
         ux[t] = s * dx;
         uy[t] = s * dy;
         uz[t] = s * dz;
       }
+      if (any_broken(broken, k0, count)) zero_broken(broken, k0, count, ux, uy, uz);
       Fx += sum4(ux, count);
       Fy += sum4(uy, count);
       Fz += sum4(uz, count);
