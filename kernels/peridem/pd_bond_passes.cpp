@@ -159,10 +159,10 @@ inline bool any_broken(const unsigned char* broken, int k0, int count) {
   return any != 0;
 }
 
-// h = 0 of eqs 12-13 applied after a stage's vector loop computed every entry as intact: the terms of the
-// broken entries among [k0, k0 + count) are set to 0 in each of the `columns` staged arrays. (Not a factor
-// inside the vector loop: filling and reading a factor per entry cost the sweeps 8-10% on rows that, almost
-// always, have no broken bond.)
+// h = 0 of eqs 12-13 applied after a stage's vector loop computed every entry as intact: the staged values
+// of the broken entries among [k0, k0 + count) are set to 0 in the three arrays a, b, c. (Not a factor inside
+// the vector loop: filling and reading a factor per entry cost the sweeps 8-10% on rows that, almost always,
+// have no broken bond. Zeroing also keeps a non-finite term of a broken bond out of the sums.)
 inline void zero_broken(const unsigned char* broken, int k0, int count, double* a, double* b, double* c) {
   for (int t = 0; t < count; ++t)
     if (broken[k0 + t]) a[t] = b[t] = c[t] = 0.0;
@@ -222,10 +222,11 @@ DEBRIS_PD_ROW_CLONES long break_and_dilate_rows(const RowInputs& in, int r0, int
     for (int k0 = begin; k0 < end; k0 += kStage) {
       const int count = end - k0 < kStage ? end - k0 : kStage;
       const int lanes = padded_count(k0, count, entries);
-      // Every entry's theta term (as if intact: h is applied after the loop) and whether it is near breaking, in a vector loop: all loads
-      // unconditional, no byte column (it would make the vector 32 entries wide, longer than most rows), and
-      // flags as factors 0 or 1 rather than selects between computed values (with trapping floating-point
-      // math the compiler may move such a value under a branch, and then it does not vectorise the loop).
+      // Every entry's theta term (as if intact: h is applied after the loop) and whether it is near breaking,
+      // in a vector loop: all loads unconditional, no byte column (it would make the vector 32 entries wide,
+      // longer than most rows), and flags as factors 0 or 1 rather than selects between computed values (with
+      // trapping floating-point math the compiler may move such a value under a branch, and then it does not
+      // vectorise the loop).
       DEBRIS_SIMD
       for (int t = 0; t < lanes; ++t) {
         const int k = k0 + t, j = partner[k];
