@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <utility>
 #include <vector>
@@ -195,6 +196,58 @@ TEST(PdBondPassesFast, FusedStepEqualsTheSeparatePassesBitForBitOnAnyThreadCount
   EXPECT_GT(a.broke, 0);
   EXPECT_TRUE(a == b) << "pd_bond_step differs from break + dilatation + force";
   EXPECT_TRUE(a == c) << "pd_bond_step differs between 1 and 2 threads";
+}
+
+/// The 2D grains of make_system and the wall, every node at z = 0 but the wall's, at wall_z: the wall has no
+/// bonds, so wall_z changes nothing of the physics, only whether the nodes lie in one plane.
+System make_flat_system(double wall_z) {
+  System s;
+  const PdMaterial m2 = peridem_material_m1(2);
+  s.lps = {PdLpsConstants::from(m2)};
+  const double eps = m2.horizon, h = eps / 3.2;
+  s.add_grid(PdGrainKind::particle, 0, eps, {0, 0, 0}, 13, 11, 1, h);
+  s.add_grid(PdGrainKind::wall, 0, eps, {0, -3 * h, wall_z}, 15, 2, 1, h);
+  s.add_grid(PdGrainKind::particle, 0, eps, {0, 20 * h, 0}, 2, 1, 1, h);  // deform() crushes its bond
+  s.bonds = BondList::build(s.nodes, s.grains, s.horizon);
+  test::pd_weighted_volume_pass(s.lps, s.grains, s.bonds, s.nodes);
+  return s;
+}
+
+TEST(PdBondPassesFast, PlanarSweepsEqualThe3DSweepsBitForBit) {
+  System flat = make_flat_system(0.0), lifted = make_flat_system(1e-3);
+  for (System* s : {&flat, &lifted}) deform(*s, 5);
+  for (System* s : {&flat, &lifted}) to_device(s->nodes);
+  ASSERT_TRUE(pd_nodes_in_one_plane(flat.nodes));
+  ASSERT_FALSE(pd_nodes_in_one_plane(lifted.nodes)) << "the lifted wall puts the nodes in two planes";
+  const Snapshot a = snapshot(flat, test::pd_bond_step(flat.lps, flat.grains, flat.bonds, flat.nodes));
+  const Snapshot b = snapshot(lifted, test::pd_bond_step(lifted.lps, lifted.grains, lifted.bonds, lifted.nodes));
+  EXPECT_GT(a.broke, 0);
+  EXPECT_TRUE(a == b) << "the planar sweeps differ from the 3D ones";  // == on doubles: fz 0 and -0 agree
+  double theta_max = 0.0, f_max = 0.0;
+  for (std::size_t i = 0; i < flat.nodes.size(); ++i) {
+    theta_max = std::max(theta_max, std::fabs(a.theta[i]));
+    f_max = std::max(f_max, std::hypot(a.fx[i], a.fy[i]));
+    EXPECT_EQ(a.fz[i], 0.0) << "node " << i;
+    EXPECT_TRUE(std::isfinite(a.fx[i]) && std::isfinite(a.fy[i])) << "node " << i;
+  }
+  EXPECT_GT(theta_max, 0.0);
+  EXPECT_GT(f_max, 0.0);
+}
+
+TEST(PdBondPassesFast, OnePlaneMeansTheSameFiniteZ) {
+  System s = make_flat_system(0.0);
+  const auto check = [&s] {
+    to_device(s.nodes);
+    return pd_nodes_in_one_plane(s.nodes);
+  };
+  for (double& z : s.nodes.z) z = 2.5e-3;  // any plane z = const
+  EXPECT_TRUE(check());
+  s.nodes.z[3] = std::nextafter(2.5e-3, 1.0);
+  EXPECT_FALSE(check());
+  s.nodes.z[3] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(check()) << "a NaN z takes the 3D sweeps";
+  for (double& z : s.nodes.z) z = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(check());
 }
 
 // ---------------------------------------------------------------------------------------------------------
