@@ -2,8 +2,7 @@
 // Peridynamic bonds (paper B, section 2.1 and eq 33): node j is bonded to node i when both belong to the
 // same grain and |x0_j - x0_i| < horizon in the reference configuration. Built once, stored as compressed
 // rows from both ends (row i lists every partner j, row j lists i), so the bond passes write only to the
-// row's own node, with no atomics, on host threads and on a GPU alike (host builds' force sweep takes each
-// bond once, from its lower node, in blocks that hold whole grains: pd_bond_passes.hpp). A bond breaks irreversibly
+// row's own node, with no atomics, on host threads and on a GPU alike. A bond breaks irreversibly
 // (eq 10); `broken` is kept per stored entry and both ends of a bond always agree.
 // Offload builds: every array is an exec::DeviceVector; build() fills the host copies, to_device(bonds)
 // sends them, and the bond passes change `broken` on the device only (to_host(bonds.broken) before the host
@@ -32,10 +31,6 @@ class BondList {
   /// sweep, or by pd_bond_force_pass itself). Not bond data: nothing reads it across calls, and copies or
   /// checkpoints need not keep it. Mutable because the passes read the bonds as const.
   mutable exec::DeviceVector<double> node_factors;
-  /// Scratch of host builds' force sweep (bond_force_half_body in pd_bond_passes.cpp), sized by it: where its
-  /// blocks of rows start, and each node's shares of the bonds swept from its partners' rows (x, y, z columns).
-  mutable std::vector<int> half_sweep_starts;
-  mutable std::vector<double> force_shares;
 
   std::size_t nodes() const { return offset.empty() ? 0 : offset.size() - 1; }
   std::size_t entries() const { return partner.size(); }

@@ -205,9 +205,9 @@ TEST(PdBondPassesFast, FusedStepEqualsTheSeparatePassesBitForBitOnAnyThreadCount
   EXPECT_TRUE(a == c) << "pd_bond_step differs between 1 and 2 threads";
 }
 
-/// make_system's grains and ten more 2D grids after them: about 70,000 bond entries, so the host builds'
-/// force sweep (each bond once, in blocks of whole grains of about 4,096 entries) cuts several blocks, and
-/// the 3D grain (about 41,000 entries) is one block on its own.
+/// make_system's grains and ten more 2D grids after them: about 70,000 bond entries, so the sweeps hand the
+/// rows to the threads in many blocks of about 4,096 entries, cut inside grains (make_system alone is a
+/// few blocks).
 System make_many_grains() {
   System s = make_system();
   const double eps = s.lps[0].horizon, h = eps / 3.2;
@@ -217,8 +217,9 @@ System make_many_grains() {
   return s;
 }
 
-// Blocks of the force sweep: a block cut inside a grain would lose the shares filed across it, and a block
-// order that depended on the thread count would change the bits.
+// Many blocks, one and two threads: each node's sums must not depend on which block or thread sweeps its row.
+// (Written for a force sweep that took each bond once from its lower node, in blocks of whole grains, tried
+// and dropped: scenarios/peridem/RESULTS.md, section 9. Cutting its blocks inside a grain failed this test.)
 TEST(PdBondPassesFast, ManyGrainsStepEqualsThePureFunctionsAndIsTheSameOnTwoThreads) {
   const int saved = exec::threads();
   exec::set_threads(1);

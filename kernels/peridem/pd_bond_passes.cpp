@@ -5,7 +5,6 @@
 #include <cstring>
 #include <limits>
 #include <string>
-#include <vector>
 
 #include "core/block_sums.hpp"
 #include "core/bond_list.hpp"
@@ -280,14 +279,8 @@ DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int
   return marked;
 }
 
-DEBRIS_PD_ROW_CLONES long break_and_dilate_rows(const RowInputs& in, int r0, int r1) {
-  return in.planar ? break_and_dilate_body<true>(in, r0, r1) : break_and_dilate_body<false>(in, r0, r1);
-}
-
-#if defined(DEBRIS_OFFLOAD_TARGET)
 // Rows [r0, r1): f_i += V_i F_i, F_i of eq 33 over the intact bonds, from the node factors. kPlanar: as in
-// break_and_dilate_body; no z component then (it would be s 0 = 0 for every entry). Offload builds only
-// (host builds sweep each bond once: bond_force_half_body).
+// break_and_dilate_body; no z component then (it would be s 0 = 0 for every entry).
 template <bool kPlanar>
 DEBRIS_ALWAYS_INLINE void bond_force_body(const RowInputs& in, int r0, int r1) {
   const int* __restrict offset = in.offset;
@@ -344,116 +337,18 @@ DEBRIS_ALWAYS_INLINE void bond_force_body(const RowInputs& in, int r0, int r1) {
   }
 }
 
+DEBRIS_PD_ROW_CLONES long break_and_dilate_rows(const RowInputs& in, int r0, int r1) {
+  return in.planar ? break_and_dilate_body<true>(in, r0, r1) : break_and_dilate_body<false>(in, r0, r1);
+}
+
 DEBRIS_PD_ROW_CLONES void bond_force_rows(const RowInputs& in, int r0, int r1) {
   if (in.planar)
     bond_force_body<true>(in, r0, r1);
   else
     bond_force_body<false>(in, r0, r1);
 }
-#endif
 
 DEBRIS_END_DECLARE_TARGET
-
-#if !defined(DEBRIS_OFFLOAD_TARGET)
-// Host builds: eq 33 once per bond instead of once from each end. Row i sweeps only its upper entries
-// (partners j > i: a suffix of the row, partners ascend), computes the bond's pair force
-// w = V_i V_j (t_i + t_j) y / |y| (eq 33 times both volumes; symmetric in i and j but for the sign of y),
-// adds it to its own sum and files -w as node j's share. A block of rows holds every bond of its rows
-// (half_sweep_blocks cuts only where no bond crosses: between grains), so node j's shares come from rows
-// i < j of its own block, added in increasing i by one thread, and f_j gets (own upper sum) - (shares):
-// the bits depend neither on the thread count nor on the block sizes. Half the entries pay for the
-// gathers, the square root and the division; each pays a scalar scatter of its share instead (a PeriDEM
-// step 1.1x faster on the 502-grain deck, README "The Intel kind again"). Offload builds keep the sweep from
-// both ends (bond_force_body): a device thread per row cannot file shares without atomics.
-template <bool kPlanar>
-DEBRIS_ALWAYS_INLINE void bond_force_half_body(const RowInputs& in, int r0, int r1, double* __restrict sx,
-                                               double* __restrict sy, double* __restrict sz) {
-  const int* __restrict offset = in.offset;
-  const int* __restrict partner = in.partner;
-  const double* __restrict length0 = in.length0;
-  const unsigned char* __restrict broken = in.broken;
-  const double* __restrict x = in.x, * __restrict y = in.y, * __restrict z = in.z;
-  const double* __restrict volume = in.volume;
-  const double* __restrict factors = in.factors;
-  double* __restrict fx = in.fx, * __restrict fy = in.fy, * __restrict fz = in.fz;
-  const int entries = in.entries;
-  double wx[kStage], wy[kStage], wz[kStage];
-  for (int i = r0; i < r1; ++i) sx[i] = sy[i] = sz[i] = 0.0;
-  for (int i = r0; i < r1; ++i) {
-    int begin = offset[i];
-    const int end = offset[i + 1];
-    while (begin < end && partner[begin] < i) ++begin;  // the lower entries were swept from their rows
-    double Fx = 0.0, Fy = 0.0, Fz = 0.0;
-    if (begin < end) {
-      const double inv_horizon = 1.0 / in.lps[in.material[in.grain[i]]].horizon;
-      const double xi = x[i], yi = y[i], zi = z[i], v_i = volume[i];
-      const double p_i = factors[2 * i], q_i = factors[2 * i + 1];
-      for (int k0 = begin; k0 < end; k0 += kStage) {
-        const int count = end - k0 < kStage ? end - k0 : kStage;
-        const int lanes = padded_count(k0, count, entries);
-        // As in bond_force_body: every entry as if intact, the broken ones zeroed after the loop.
-        DEBRIS_SIMD
-        for (int t = 0; t < lanes; ++t) {
-          const int k = k0 + t, j = partner[k];
-          const double dx = x[j] - xi, dy = y[j] - yi;
-          const double x0 = length0[k], v_j = volume[j], p_j = factors[2 * j], q_j = factors[2 * j + 1];
-          double r2 = dx * dx + dy * dy, dz = 0.0;
-          if constexpr (!kPlanar) {
-            dz = z[j] - zi;
-            r2 += dz * dz;
-          }
-          const double length = std::sqrt(r2);
-          const double has_length = static_cast<double>(length > 0.0);
-          const double inv_length = has_length / (length + (1.0 - has_length));
-          const double a = x0 * inv_horizon;
-          const double J = std::max(1.0 - a, 0.0);
-          // V_i times eq 33's term: the newtons node i gets from the bond, per unit of y.
-          const double s = v_i * lps_bond_force_scale(J, x0, length - x0, v_j, p_i + p_j, q_i + q_j, inv_length);
-          wx[t] = s * dx;
-          wy[t] = s * dy;
-          if constexpr (!kPlanar) wz[t] = s * dz;
-        }
-        zero_broken(broken, k0, count, wx, wy, wz);
-        Fx += sum4(wx, count);
-        Fy += sum4(wy, count);
-        if constexpr (!kPlanar) Fz += sum4(wz, count);
-        for (int t = 0; t < count; ++t) {  // node j's shares, in increasing i (rows) and k (entries)
-          const int j = partner[k0 + t];
-          sx[j] += wx[t];
-          sy[j] += wy[t];
-          if constexpr (!kPlanar) sz[j] += wz[t];
-        }
-      }
-    }
-    // Every share of node i is in: its lower partners' rows came before it in this block.
-    fx[i] += Fx - sx[i];
-    fy[i] += Fy - sy[i];
-    if constexpr (!kPlanar) fz[i] += Fz - sz[i];
-  }
-}
-
-DEBRIS_PD_ROW_CLONES void bond_force_half_rows(const RowInputs& in, int r0, int r1, double* sx, double* sy,
-                                               double* sz) {
-  if (in.planar)
-    bond_force_half_body<true>(in, r0, r1, sx, sy, sz);
-  else
-    bond_force_half_body<false>(in, r0, r1, sx, sy, sz);
-}
-
-// Blocks of whole rows for the half sweep, about kEntriesPerBlock entries each, cut only before a row that
-// no bond of an earlier row reaches (the rows hold both ends of every bond, so `reach`, the largest partner
-// seen, says where a bond still crosses). Grains are contiguous node ranges, so the cuts fall between
-// grains; one grain is one block however large. starts: block b is [starts[b], starts[b + 1]).
-void half_sweep_blocks(const int* offset, const int* partner, int n, std::vector<int>& starts) {
-  starts.assign(1, 0);
-  int reach = -1;
-  for (int i = 0; i < n; ++i) {
-    if (offset[i] < offset[i + 1]) reach = std::max(reach, partner[offset[i + 1] - 1]);
-    if (reach <= i && offset[i + 1] - offset[starts.back()] >= kEntriesPerBlock) starts.push_back(i + 1);
-  }
-  if (starts.back() != n) starts.push_back(n);
-}
-#endif
 
 // Whether every node has the same finite z: a 2D deck, whose nodes lie in a plane z = const (the input files
 // have z = 0). Two reductions over z, about 1.4% of the sweeps' instructions, which then skip z (pd_bond_passes.hpp).
@@ -535,20 +430,7 @@ long run_break_and_dilate(const RowInputs& host) {
   return marked;
 }
 
-#if !defined(DEBRIS_OFFLOAD_TARGET)
-void run_bond_force(const RowInputs& in, const BondList& bonds) {
-  half_sweep_blocks(in.offset, in.partner, in.n, bonds.half_sweep_starts);
-  bonds.force_shares.resize(3 * static_cast<std::size_t>(in.n));
-  double* sx = bonds.force_shares.data();
-  double* sy = sx + in.n;
-  double* sz = sy + in.n;
-  const int* starts = bonds.half_sweep_starts.data();
-  const int blocks = static_cast<int>(bonds.half_sweep_starts.size()) - 1;
-  DEBRIS_KERNEL
-  for (int b = 0; b < blocks; ++b) bond_force_half_rows(in, starts[b], starts[b + 1], sx, sy, sz);
-}
-#else
-void run_bond_force(const RowInputs& host, const BondList&) {
+void run_bond_force(const RowInputs& host) {
   DEBRIS_PD_ROW_LOCALS(host);
   DEBRIS_RESIDENT(offset, partner, grain, material, length0, x, y, z, volume, lps, broken, factors, fx, fy, fz);
   DEBRIS_KERNEL
@@ -557,7 +439,6 @@ void run_bond_force(const RowInputs& host, const BondList&) {
     bond_force_rows(in, block_row(offset, n, blocks, b), block_row(offset, n, blocks, b + 1));
   }
 }
-#endif
 
 #undef DEBRIS_PD_ROW_LOCALS
 #undef DEBRIS_PD_ROW_INPUTS
@@ -595,7 +476,7 @@ void pd_bond_force_pass(const PdLpsTable& lps, const PdGrains& grains, const Bon
     factors[2 * i] = f.p;
     factors[2 * i + 1] = f.q;
   }
-  run_bond_force(in, bonds);
+  run_bond_force(in);
 }
 
 long pd_bond_step(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds, PdNodes& nodes) {
@@ -605,7 +486,7 @@ long pd_bond_step(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds
   in.broken = bonds.broken.data();
   in.do_break = in.do_theta = in.do_factors = 1;
   const long broke = run_break_and_dilate(in) / 2;
-  run_bond_force(in, bonds);
+  run_bond_force(in);
   return broke;
 }
 
