@@ -205,9 +205,9 @@ TEST(PdBondPassesFast, FusedStepEqualsTheSeparatePassesBitForBitOnAnyThreadCount
   EXPECT_TRUE(a == c) << "pd_bond_step differs between 1 and 2 threads";
 }
 
-/// make_system's grains and ten more 2D grids after them: about 70,000 bond entries, so the sweeps hand the
-/// rows to the threads in many blocks of about 4,096 entries, cut inside grains (make_system alone is a
-/// few blocks).
+/// make_system's grains and ten more 2D grids after them: 71,816 bond entries in 14 grains, so the sweeps'
+/// 17 blocks of about 4,096 entries (cut anywhere in a grain) fall on every kind of grain, and blocks of
+/// whole grains would be many too (make_system's are four grains, the 3D one 28,254 entries).
 System make_many_grains() {
   System s = make_system();
   const double eps = s.lps[0].horizon, h = eps / 3.2;
