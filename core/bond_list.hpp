@@ -31,6 +31,9 @@ class BondList {
   /// sweep, or by pd_bond_force_pass itself). Not bond data: nothing reads it across calls, and copies or
   /// checkpoints need not keep it. Mutable because the passes read the bonds as const.
   mutable exec::DeviceVector<double> node_factors;
+  /// Scratch of pd_bond_step in host builds on CPUs with AVX2: |y| of every entry, from its dilatation sweep,
+  /// for its force sweep (kernels/peridem/pd_bond_passes.cpp, fetch_partners_avx2). Sized there; empty otherwise.
+  mutable exec::DeviceVector<double> bond_length;
 
   std::size_t nodes() const { return offset.empty() ? 0 : offset.size() - 1; }
   std::size_t entries() const { return partner.size(); }

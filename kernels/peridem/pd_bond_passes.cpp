@@ -14,6 +14,12 @@
 #include "core/vec3.hpp"
 #include "kernels/peridem/lps_bond_force.hpp"
 
+// Host builds on x86-64 fetch the force sweep's partner columns with AVX2 (fetch_partners_avx2 below).
+#if !defined(DEBRIS_OFFLOAD_TARGET) && defined(__x86_64__)
+#include <immintrin.h>
+#define DEBRIS_PD_FETCH_AVX2 1
+#endif
+
 namespace debris {
 
 namespace {
@@ -173,6 +179,58 @@ inline void zero_broken(const unsigned char* broken, int k0, int count, double* 
 
 DEBRIS_END_DECLARE_TARGET
 
+#if defined(DEBRIS_PD_FETCH_AVX2)
+// The force sweep of pd_bond_step on CPUs with AVX2 and FMA. Its vector loop, as the compiler writes it, loads
+// the partners' five columns lane by lane and inserts each value with a shuffle; with its square root and
+// division that loop is bound by the shuffle port and the divider together (llvm-mca, Ice Lake server model:
+// 60 cycles per 8 entries, the shuffle port 49 of them, the divider 34), so relieving one alone gained
+// nothing (measured, scenarios/peridem/RESULTS.md, section 9). Here the partners' columns are fetched four
+// entries at a time by broadcast loads and blends, which use no shuffle port, into arrays in entry order,
+// and |y| comes from the dilatation sweep, which computes it anyway (BondList::bond_length): no square
+// root is left in the force sweep. The arithmetic is the same, so are the bits.
+
+// Four partners' values of one column: four broadcast loads and three blends.
+__attribute__((target("avx2,fma"), always_inline)) inline __m256d gather4(const double* a, long j0, long j1, long j2,
+                                                                          long j3) {
+  const __m256d lo = _mm256_blend_pd(_mm256_broadcast_sd(a + j0), _mm256_broadcast_sd(a + j1), 0b1010);
+  const __m256d hi = _mm256_blend_pd(_mm256_broadcast_sd(a + j2), _mm256_broadcast_sd(a + j3), 0b1010);
+  return _mm256_blend_pd(lo, hi, 0b1100);
+}
+
+// The partners' x, y, z (only when z is not null), V and P, Q (interleaved in `factors`) of entries
+// [k0, k0 + lanes), into the arrays sx ... sq in entry order. (A call per stage of a row: inlined it would
+// need the row kernels built for AVX2 alone, not as clones.)
+__attribute__((target("avx2,fma"))) void fetch_partners_avx2(const int* partner, int k0, int lanes, const double* x,
+                                                             const double* y, const double* z, const double* volume,
+                                                             const double* factors, double* sx, double* sy, double* sz,
+                                                             double* sv, double* sp, double* sq) {
+  int t = 0;
+  for (; t + 4 <= lanes; t += 4) {
+    const long j0 = partner[k0 + t], j1 = partner[k0 + t + 1], j2 = partner[k0 + t + 2], j3 = partner[k0 + t + 3];
+    _mm256_store_pd(sx + t, gather4(x, j0, j1, j2, j3));
+    _mm256_store_pd(sy + t, gather4(y, j0, j1, j2, j3));
+    if (z) _mm256_store_pd(sz + t, gather4(z, j0, j1, j2, j3));
+    _mm256_store_pd(sv + t, gather4(volume, j0, j1, j2, j3));
+    // P, Q of two partners per 128-bit load, then one unpack each for the P and the Q of four.
+    const __m256d a =
+        _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(factors + 2 * j0)), _mm_loadu_pd(factors + 2 * j2), 1);
+    const __m256d b =
+        _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(factors + 2 * j1)), _mm_loadu_pd(factors + 2 * j3), 1);
+    _mm256_store_pd(sp + t, _mm256_unpacklo_pd(a, b));
+    _mm256_store_pd(sq + t, _mm256_unpackhi_pd(a, b));
+  }
+  for (; t < lanes; ++t) {
+    const long j = partner[k0 + t];
+    sx[t] = x[j];
+    sy[t] = y[j];
+    if (z) sz[t] = z[j];
+    sv[t] = volume[j];
+    sp[t] = factors[2 * j];
+    sq[t] = factors[2 * j + 1];
+  }
+}
+#endif
+
 struct RowInputs {
   const int* offset;
   const int* partner;
@@ -184,6 +242,8 @@ struct RowInputs {
   const double *x, *y, *z, *volume, *m;
   double* theta;
   double* factors;  // P_i, Q_i (lps_node_factors), interleaved
+  double* lengths;  // |y| of every entry (BondList::bond_length), or null: written by the break-and-dilatation
+                    // sweep when not null, read by the force sweep, which then fetches with AVX2
   double *fx, *fy, *fz;
   int n, blocks, entries;
   int do_break, do_theta, do_factors;
@@ -194,8 +254,9 @@ DEBRIS_DECLARE_TARGET
 
 // Rows [r0, r1): eq 11 (do_break: mark the intact bonds whose stretch reached s_0; returns the entries
 // marked), then theta_i of eq 34 over the bonds intact after that (do_theta), and the node factors of
-// lps_node_factors (do_factors). One bond length per entry serves both. kPlanar: every node has the same z,
-// so dz = 0 exactly and |y| is computed from dx, dy alone: the same bits (the 3D sum adds dz dz = 0 last).
+// lps_node_factors (do_factors). One bond length per entry serves both, and is kept in in.lengths for the
+// force sweep when that is not null. kPlanar: every node has the same z, so dz = 0 exactly and |y| is
+// computed from dx, dy alone: the same bits (the 3D sum adds dz dz = 0 last).
 template <bool kPlanar>
 DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int r1) {
   const int* __restrict offset = in.offset;
@@ -210,6 +271,8 @@ DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int
   const double may_break = in.do_break ? 1.0 : 0.0;
   long marked = 0;
   double term[kStage], near[kStage], extension[kStage];
+  double* __restrict lengths = in.lengths;
+  const int keep_lengths = lengths != nullptr;
   for (int i = r0; i < r1; ++i) {
     const int begin = offset[i], end = offset[i + 1];
     if (begin == end) {
@@ -243,7 +306,9 @@ DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int
           const double dz = z[j] - zi;
           r2 += dz * dz;
         }
-        const double e = std::sqrt(r2) - x0;
+        const double length = std::sqrt(r2);
+        if (keep_lengths && t < count) lengths[k] = length;  // not the padding: the next row's entries
+        const double e = length - x0;
         const double a = x0 * inv_horizon;
         const double J = std::max(1.0 - a, 0.0);  // lps_influence(a) for a >= 0, without a branch
         // Near s_0 when e >= 0.999 s_0 x0 (a multiplication, not the division of the stretch; rounded, e below
@@ -279,8 +344,21 @@ DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int
   return marked;
 }
 
+// Eq 33's bond term of one entry as the scalar s of lps_bond_force_scale (the term is s y), from |y|, the
+// reference length x0 and the sums P_i + P_j, Q_i + Q_j, with the sweeps' branch-free 1 / |y| and J.
+DEBRIS_ALWAYS_INLINE double bond_force_scale(double length, double x0, double inv_horizon, double v_j, double p_sum,
+                                             double q_sum) {
+  // 1 / |y|, or 0 when |y| is 0 (no direction), as arithmetic: a division under a branch may trap.
+  const double has_length = static_cast<double>(length > 0.0);
+  const double inv_length = has_length / (length + (1.0 - has_length));
+  const double J = std::max(1.0 - x0 * inv_horizon, 0.0);  // lps_influence(x0 / horizon) for x0 >= 0, without a branch
+  return lps_bond_force_scale(J, x0, length - x0, v_j, p_sum, q_sum, inv_length);  // eq 12
+}
+
 // Rows [r0, r1): f_i += V_i F_i, F_i of eq 33 over the intact bonds, from the node factors. kPlanar: as in
-// break_and_dilate_body; no z component then (it would be s 0 = 0 for every entry).
+// break_and_dilate_body; no z component then (it would be s 0 = 0 for every entry). With in.lengths (|y| from
+// this step's dilatation sweep) and the AVX2 fetch, the partners' columns are fetched first (see
+// fetch_partners_avx2); otherwise the vector loop loads them and computes |y| itself.
 template <bool kPlanar>
 DEBRIS_ALWAYS_INLINE void bond_force_body(const RowInputs& in, int r0, int r1) {
   const int* __restrict offset = in.offset;
@@ -290,6 +368,7 @@ DEBRIS_ALWAYS_INLINE void bond_force_body(const RowInputs& in, int r0, int r1) {
   const double* __restrict x = in.x, * __restrict y = in.y, * __restrict z = in.z;
   const double* __restrict volume = in.volume;
   const double* __restrict factors = in.factors;
+  [[maybe_unused]] const double* __restrict lengths = in.lengths;  // the AVX2 fetch's |y| (host builds)
   double* __restrict fx = in.fx, * __restrict fy = in.fy, * __restrict fz = in.fz;
   const int entries = in.entries;
   double ux[kStage], uy[kStage], uz[kStage];
@@ -304,26 +383,37 @@ DEBRIS_ALWAYS_INLINE void bond_force_body(const RowInputs& in, int r0, int r1) {
       const int count = end - k0 < kStage ? end - k0 : kStage;
       const int lanes = padded_count(k0, count, entries);
       // As in break_and_dilate_rows: every entry as if intact, the broken ones zeroed after the loop.
-      DEBRIS_SIMD
-      for (int t = 0; t < lanes; ++t) {
-        const int k = k0 + t, j = partner[k];
-        const double dx = x[j] - xi, dy = y[j] - yi;
-        const double x0 = length0[k], v_j = volume[j], p_j = factors[2 * j], q_j = factors[2 * j + 1];
-        double r2 = dx * dx + dy * dy, dz = 0.0;
-        if constexpr (!kPlanar) {
-          dz = z[j] - zi;
-          r2 += dz * dz;
+#if defined(DEBRIS_PD_FETCH_AVX2)
+      if (lengths) {
+        alignas(32) double sx[kStage], sy[kStage], sz[kStage], sv[kStage], sp[kStage], sq[kStage];
+        fetch_partners_avx2(partner, k0, lanes, x, y, kPlanar ? nullptr : z, volume, factors, sx, sy, sz, sv, sp, sq);
+        DEBRIS_SIMD
+        for (int t = 0; t < lanes; ++t) {
+          const double dx = sx[t] - xi, dy = sy[t] - yi, dz = kPlanar ? 0.0 : sz[t] - zi;
+          const double s =
+              bond_force_scale(lengths[k0 + t], length0[k0 + t], inv_horizon, sv[t], p_i + sp[t], q_i + sq[t]);
+          ux[t] = s * dx;
+          uy[t] = s * dy;
+          if constexpr (!kPlanar) uz[t] = s * dz;
         }
-        const double length = std::sqrt(r2);
-        // 1 / |y|, or 0 when |y| is 0 (no direction), as arithmetic: a division under a branch may trap.
-        const double has_length = static_cast<double>(length > 0.0);
-        const double inv_length = has_length / (length + (1.0 - has_length));
-        const double a = x0 * inv_horizon;
-        const double J = std::max(1.0 - a, 0.0);  // lps_influence(a) for a >= 0, without a branch
-        const double s = lps_bond_force_scale(J, x0, length - x0, v_j, p_i + p_j, q_i + q_j, inv_length);  // eq 12
-        ux[t] = s * dx;
-        uy[t] = s * dy;
-        if constexpr (!kPlanar) uz[t] = s * dz;
+      } else
+#endif
+      {
+        DEBRIS_SIMD
+        for (int t = 0; t < lanes; ++t) {
+          const int k = k0 + t, j = partner[k];
+          const double dx = x[j] - xi, dy = y[j] - yi;
+          double r2 = dx * dx + dy * dy, dz = 0.0;
+          if constexpr (!kPlanar) {
+            dz = z[j] - zi;
+            r2 += dz * dz;
+          }
+          const double s = bond_force_scale(std::sqrt(r2), length0[k], inv_horizon, volume[j], p_i + factors[2 * j],
+                                            q_i + factors[2 * j + 1]);
+          ux[t] = s * dx;
+          uy[t] = s * dy;
+          if constexpr (!kPlanar) uz[t] = s * dz;
+        }
       }
       zero_broken(broken, k0, count, ux, uy, uz);
       Fx += sum4(ux, count);
@@ -404,18 +494,19 @@ RowInputs row_inputs_with_outputs(const PdLpsTable& lps, const PdGrains& grains,
 // The kernels' loops over row blocks. Every pointer is copied into a local and RowInputs is rebuilt inside
 // the loop: an offload build maps each local pointer to its device copy, which it does not do for pointers
 // inside a struct.
-#define DEBRIS_PD_ROW_LOCALS(h)                                                                  \
-  const int *offset = h.offset, *partner = h.partner, *grain = h.grain, *material = h.material;  \
-  const double *length0 = h.length0, *x = h.x, *y = h.y, *z = h.z, *volume = h.volume, *m = h.m; \
-  const PdLpsConstants* lps = h.lps;                                                             \
-  unsigned char* broken = h.broken;                                                              \
-  double *theta = h.theta, *factors = h.factors, *fx = h.fx, *fy = h.fy, *fz = h.fz;             \
-  const int n = h.n, blocks = h.blocks, entries = h.entries;                                     \
+#define DEBRIS_PD_ROW_LOCALS(h)                                                                            \
+  const int *offset = h.offset, *partner = h.partner, *grain = h.grain, *material = h.material;            \
+  const double *length0 = h.length0, *x = h.x, *y = h.y, *z = h.z, *volume = h.volume, *m = h.m;           \
+  const PdLpsConstants* lps = h.lps;                                                                       \
+  unsigned char* broken = h.broken;                                                                        \
+  double *theta = h.theta, *factors = h.factors, *lengths = h.lengths, *fx = h.fx, *fy = h.fy, *fz = h.fz; \
+  const int n = h.n, blocks = h.blocks, entries = h.entries;                                               \
   const int do_break = h.do_break, do_theta = h.do_theta, do_factors = h.do_factors, planar = h.planar
-#define DEBRIS_PD_ROW_INPUTS                                                                                           \
-  RowInputs {                                                                                                          \
-    offset, partner, length0, broken, grain, material, lps, x, y, z, volume, m, theta, factors, fx, fy, fz, n, blocks, \
-        entries, do_break, do_theta, do_factors, planar                                                                \
+
+#define DEBRIS_PD_ROW_INPUTS                                                                                         \
+  RowInputs {                                                                                                        \
+    offset, partner, length0, broken, grain, material, lps, x, y, z, volume, m, theta, factors, lengths, fx, fy, fz, \
+        n, blocks, entries, do_break, do_theta, do_factors, planar                                                   \
   }
 
 long run_break_and_dilate(const RowInputs& host) {
@@ -485,6 +576,14 @@ long pd_bond_step(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds
   RowInputs in = row_inputs_with_outputs(lps, grains, bonds, nodes);
   in.broken = bonds.broken.data();
   in.do_break = in.do_theta = in.do_factors = 1;
+#if defined(DEBRIS_PD_FETCH_AVX2)
+  // |y| kept from the dilatation sweep for the force sweep's AVX2 fetch, on CPUs that have it.
+  static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  if (avx2) {
+    bonds.bond_length.resize(bonds.entries());
+    in.lengths = bonds.bond_length.data();
+  }
+#endif
   const long broke = run_break_and_dilate(in) / 2;
   run_bond_force(in);
   return broke;
