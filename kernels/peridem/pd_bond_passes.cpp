@@ -198,9 +198,10 @@ __attribute__((target("avx2,fma"), always_inline)) inline __m256d gather4(const 
 }
 
 // The partners' x, y, z (only when z is not null), V and P, Q (interleaved in `factors`) of entries
-// [k0, k0 + lanes), into the arrays sx ... sq in entry order. (A call per stage of a row: inlined it would
-// need the row kernels built for AVX2 alone, not as clones.)
-__attribute__((target("avx2,fma"))) void fetch_partners_avx2(const int* partner, int k0, int lanes, const double* x,
+// [k0, k0 + lanes), into the arrays sx ... sq in entry order. Inlined into bond_force_rows_avx2, a kernel built
+// for AVX2 alone: a call per stage of a row cost 4-5% of the sweeps (GCC inlines no AVX2 function into a
+// function that target_clones makes, since the clones are made after its early inlining).
+__attribute__((target("avx2,fma"))) inline void fetch_partners_avx2(const int* partner, int k0, int lanes, const double* x,
                                                              const double* y, const double* z, const double* volume,
                                                              const double* factors, double* sx, double* sy, double* sz,
                                                              double* sv, double* sp, double* sq) {
@@ -359,7 +360,7 @@ DEBRIS_ALWAYS_INLINE double bond_force_scale(double length, double x0, double in
 // break_and_dilate_body; no z component then (it would be s 0 = 0 for every entry). With in.lengths (|y| from
 // this step's dilatation sweep) and the AVX2 fetch, the partners' columns are fetched first (see
 // fetch_partners_avx2); otherwise the vector loop loads them and computes |y| itself.
-template <bool kPlanar>
+template <bool kPlanar, bool kFetch>
 DEBRIS_ALWAYS_INLINE void bond_force_body(const RowInputs& in, int r0, int r1) {
   const int* __restrict offset = in.offset;
   const int* __restrict partner = in.partner;
@@ -384,7 +385,7 @@ DEBRIS_ALWAYS_INLINE void bond_force_body(const RowInputs& in, int r0, int r1) {
       const int lanes = padded_count(k0, count, entries);
       // As in break_and_dilate_rows: every entry as if intact, the broken ones zeroed after the loop.
 #if defined(DEBRIS_PD_FETCH_AVX2)
-      if (lengths) {
+      if constexpr (kFetch) {
         alignas(32) double sx[kStage], sy[kStage], sz[kStage], sv[kStage], sp[kStage], sq[kStage];
         fetch_partners_avx2(partner, k0, lanes, x, y, kPlanar ? nullptr : z, volume, factors, sx, sy, sz, sv, sp, sq);
         DEBRIS_SIMD
@@ -433,10 +434,21 @@ DEBRIS_PD_ROW_CLONES long break_and_dilate_rows(const RowInputs& in, int r0, int
 
 DEBRIS_PD_ROW_CLONES void bond_force_rows(const RowInputs& in, int r0, int r1) {
   if (in.planar)
-    bond_force_body<true>(in, r0, r1);
+    bond_force_body<true, false>(in, r0, r1);
   else
-    bond_force_body<false>(in, r0, r1);
+    bond_force_body<false, false>(in, r0, r1);
 }
+
+#if defined(DEBRIS_PD_FETCH_AVX2)
+// The force sweep with the AVX2 fetch (in.lengths not null: pd_bond_step on a CPU with AVX2 and FMA), built for
+// x86-64-v3 alone so that the fetch is inlined (flatten: the fetch is an AVX2 function, the body is not).
+__attribute__((target("arch=x86-64-v3"), flatten)) void bond_force_rows_avx2(const RowInputs& in, int r0, int r1) {
+  if (in.planar)
+    bond_force_body<true, true>(in, r0, r1);
+  else
+    bond_force_body<false, true>(in, r0, r1);
+}
+#endif
 
 DEBRIS_END_DECLARE_TARGET
 
@@ -527,6 +539,12 @@ void run_bond_force(const RowInputs& host) {
   DEBRIS_KERNEL
   for (int b = 0; b < blocks; ++b) {
     const RowInputs in = DEBRIS_PD_ROW_INPUTS;
+#if defined(DEBRIS_PD_FETCH_AVX2)
+    if (lengths) {
+      bond_force_rows_avx2(in, block_row(offset, n, blocks, b), block_row(offset, n, blocks, b + 1));
+      continue;
+    }
+#endif
     bond_force_rows(in, block_row(offset, n, blocks, b), block_row(offset, n, blocks, b + 1));
   }
 }
