@@ -258,7 +258,7 @@ DEBRIS_DECLARE_TARGET
 // lps_node_factors (do_factors). One bond length per entry serves both, and is kept in in.lengths for the
 // force sweep when that is not null. kPlanar: every node has the same z, so dz = 0 exactly and |y| is
 // computed from dx, dy alone: the same bits (the 3D sum adds dz dz = 0 last).
-template <bool kPlanar>
+template <bool kPlanar, bool kKeepLengths>
 DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int r1) {
   const int* __restrict offset = in.offset;
   const int* __restrict partner = in.partner;
@@ -268,12 +268,15 @@ DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int
   const double* __restrict volume = in.volume, * __restrict m = in.m;
   double* __restrict theta = in.theta;
   double* __restrict factors = in.factors;
-  const int do_theta = in.do_theta, do_factors = in.do_factors, entries = in.entries;
+  const int do_theta = in.do_theta, do_factors = in.do_factors;
   const double may_break = in.do_break ? 1.0 : 0.0;
   long marked = 0;
   double term[kStage], near[kStage], extension[kStage];
   double* __restrict lengths = in.lengths;
-  const int keep_lengths = lengths != nullptr;
+  // Keeping |y| (kKeepLengths: in.lengths not null), every lane is stored, padding too: a row's padding writes
+  // the next rows' entries, which those rows write again after it, so the padding stops at the block's end
+  // (another thread's rows begin there). No mask to compute per store.
+  const int pad_end = kKeepLengths ? offset[r1] : in.entries;
   for (int i = r0; i < r1; ++i) {
     const int begin = offset[i], end = offset[i + 1];
     if (begin == end) {
@@ -291,7 +294,7 @@ DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int
     double sum = 0.0;
     for (int k0 = begin; k0 < end; k0 += kStage) {
       const int count = end - k0 < kStage ? end - k0 : kStage;
-      const int lanes = padded_count(k0, count, entries);
+      const int lanes = padded_count(k0, count, pad_end);
       // Every entry's theta term (as if intact: h is applied after the loop) and whether it is near breaking,
       // in a vector loop: all loads unconditional, no byte column (it would make the vector 32 entries wide,
       // longer than most rows), and flags as factors 0 or 1 rather than selects between computed values (with
@@ -308,7 +311,7 @@ DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int
           r2 += dz * dz;
         }
         const double length = std::sqrt(r2);
-        if (keep_lengths && t < count) lengths[k] = length;  // not the padding: the next row's entries
+        if constexpr (kKeepLengths) lengths[k] = length;
         const double e = length - x0;
         const double a = x0 * inv_horizon;
         const double J = std::max(1.0 - a, 0.0);  // lps_influence(a) for a >= 0, without a branch
@@ -429,7 +432,7 @@ DEBRIS_ALWAYS_INLINE void bond_force_body(const RowInputs& in, int r0, int r1) {
 }
 
 DEBRIS_PD_ROW_CLONES long break_and_dilate_rows(const RowInputs& in, int r0, int r1) {
-  return in.planar ? break_and_dilate_body<true>(in, r0, r1) : break_and_dilate_body<false>(in, r0, r1);
+  return in.planar ? break_and_dilate_body<true, false>(in, r0, r1) : break_and_dilate_body<false, false>(in, r0, r1);
 }
 
 DEBRIS_PD_ROW_CLONES void bond_force_rows(const RowInputs& in, int r0, int r1) {
@@ -440,6 +443,11 @@ DEBRIS_PD_ROW_CLONES void bond_force_rows(const RowInputs& in, int r0, int r1) {
 }
 
 #if defined(DEBRIS_PD_FETCH_AVX2)
+// The break-and-dilatation sweep that keeps |y| for bond_force_rows_avx2 (in.lengths not null).
+__attribute__((target("arch=x86-64-v3"))) long break_and_dilate_rows_avx2(const RowInputs& in, int r0, int r1) {
+  return in.planar ? break_and_dilate_body<true, true>(in, r0, r1) : break_and_dilate_body<false, true>(in, r0, r1);
+}
+
 // The force sweep with the AVX2 fetch (in.lengths not null: pd_bond_step on a CPU with AVX2 and FMA), built for
 // x86-64-v3 alone so that the fetch is inlined (flatten: the fetch is an AVX2 function, the body is not).
 __attribute__((target("arch=x86-64-v3"), flatten)) void bond_force_rows_avx2(const RowInputs& in, int r0, int r1) {
@@ -528,6 +536,12 @@ long run_break_and_dilate(const RowInputs& host) {
   DEBRIS_KERNEL_SUM(marked)
   for (int b = 0; b < blocks; ++b) {
     const RowInputs in = DEBRIS_PD_ROW_INPUTS;
+#if defined(DEBRIS_PD_FETCH_AVX2)
+    if (lengths) {
+      marked += break_and_dilate_rows_avx2(in, block_row(offset, n, blocks, b), block_row(offset, n, blocks, b + 1));
+      continue;
+    }
+#endif
     marked += break_and_dilate_rows(in, block_row(offset, n, blocks, b), block_row(offset, n, blocks, b + 1));
   }
   return marked;
