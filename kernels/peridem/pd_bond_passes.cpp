@@ -142,6 +142,24 @@ inline double sum4(const double* v, int count) {
   return (s0 + s1) + (s2 + s3);
 }
 
+// The largest of v[0, count) by 4 running maxima (a comparison per entry, no rounding); NaNs are passed over,
+// -infinity for none.
+inline double max4(const double* v, int count) {
+  constexpr double kNone = -std::numeric_limits<double>::infinity();
+  double m0 = kNone, m1 = kNone, m2 = kNone, m3 = kNone;
+  int t = 0;
+  for (; t + 4 <= count; t += 4) {
+    m0 = v[t] > m0 ? v[t] : m0;
+    m1 = v[t + 1] > m1 ? v[t + 1] : m1;
+    m2 = v[t + 2] > m2 ? v[t + 2] : m2;
+    m3 = v[t + 3] > m3 ? v[t + 3] : m3;
+  }
+  for (; t < count; ++t) m0 = v[t] > m0 ? v[t] : m0;
+  m0 = m1 > m0 ? m1 : m0;
+  m2 = m3 > m2 ? m3 : m2;
+  return m2 > m0 ? m2 : m0;
+}
+
 // The vector loops below run over a row's entries padded to a multiple of kLanes while the padding stays
 // inside the bond arrays: the extra lanes compute terms of the next row's entries (valid indices, finite
 // values) that are never summed, and the loop needs no scalar remainder. kLanes is the widest vector the
@@ -269,9 +287,9 @@ DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int
   double* __restrict theta = in.theta;
   double* __restrict factors = in.factors;
   const int do_theta = in.do_theta, do_factors = in.do_factors;
-  const double may_break = in.do_break ? 1.0 : 0.0;
+  const int may_break = in.do_break;
   long marked = 0;
-  double term[kStage], near[kStage], extension[kStage];
+  double term[kStage], slack[kStage], extension[kStage];
   double* __restrict lengths = in.lengths;
   // Keeping |y| (kKeepLengths: in.lengths not null), every lane is stored, padding too: a row's padding writes
   // the next rows' entries, which those rows write again after it, so the padding stops at the block's end
@@ -315,21 +333,21 @@ DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int
         const double e = length - x0;
         const double a = x0 * inv_horizon;
         const double J = std::max(1.0 - a, 0.0);  // lps_influence(a) for a >= 0, without a branch
-        // Near s_0 when e >= 0.999 s_0 x0 (a multiplication, not the division of the stretch; rounded, e below
-        // it still means e / x0 < s_0 for certain): the factor is 2 then, else 0 (copysign, not a comparison,
-        // which the compiler would turn into a branch).
+        // Near s_0 when e > 0.999 s_0 x0, that is when this slack is above 0 (a multiplication, not the division
+        // of the stretch; rounded, e at or below it still means e / x0 < s_0 for certain).
         const double probe = e + both * (std::fabs(e) - e);  // e, or |e| when compression breaks bonds too
-        near[t] = may_break * (1.0 + std::copysign(1.0, probe - near_s0 * x0));
+        slack[t] = probe - near_s0 * x0;
         extension[t] = e;
         term[t] = lps_dilatation_term(J, x0, e, v_j);
       }
       // A bond broken before this step adds nothing to theta and is not broken again.
-      zero_broken(broken, k0, count, term, near, extension);
-      if (sum4(near, count) > 0.0) {
+      // (Its slack becomes 0: not near.)
+      zero_broken(broken, k0, count, term, slack, extension);
+      if (may_break && max4(slack, count) > 0.0) {
         // Eq 11 exactly, lps_bond_breaks(lps_stretch(|y|, x0), s0): e / x0 is the stretch, the same bits
         // from either end of the bond, so both ends decide alike. Broken now: h = 0 in this step's theta.
         for (int t = 0; t < count; ++t)
-          if (near[t] > 0.0 && lps_bond_breaks(extension[t] / length0[k0 + t], s0, in_compression)) {
+          if (slack[t] > 0.0 && lps_bond_breaks(extension[t] / length0[k0 + t], s0, in_compression)) {
             broken[k0 + t] = 1;
             term[t] = 0.0;
             ++marked;
