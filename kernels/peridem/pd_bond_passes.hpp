@@ -19,9 +19,9 @@
 // BondList::node_factors): one division per entry (1 / |y|) where eqs 7 and 33 written out take four.
 // In pd_bond_step on x86 CPUs with AVX2 (host builds) the dilatation sweep keeps |y| of every entry
 // (BondList::bond_length, 8 B an entry) and the force sweep fetches the partners' columns four entries at a
-// time with broadcast loads and blends before its vector loop (fetch_partners_avx2, inlined into a force
-// kernel built for AVX2 alone): the same arithmetic and bits, no square root, and 9-13% off a PeriDEM step
-// (scenarios/peridem/RESULTS.md, section 9).
+// time with broadcast loads and blends before its vector loop (fetch_partners_avx2): the same arithmetic and
+// bits, no square root. Both sweeps there are kernels built for AVX2 alone (not clones), so the fetch is
+// inlined and |y| is stored for every lane without a mask (scenarios/peridem/RESULTS.md, section 9).
 // When every node has the same z (a 2D deck; pd_nodes_in_one_plane) the sweeps skip z: dz = 0 exactly, so
 // the bits are those of the 3D sweeps, with one column fewer to fetch per entry (a PeriDEM step 1.2x faster
 // on the 502-grain deck, README "The Intel kind again").
