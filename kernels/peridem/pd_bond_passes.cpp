@@ -313,11 +313,11 @@ DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int
     for (int k0 = begin; k0 < end; k0 += kStage) {
       const int count = end - k0 < kStage ? end - k0 : kStage;
       const int lanes = padded_count(k0, count, pad_end);
-      // Every entry's theta term (as if intact: h is applied after the loop) and whether it is near breaking,
-      // in a vector loop: all loads unconditional, no byte column (it would make the vector 32 entries wide,
-      // longer than most rows), and flags as factors 0 or 1 rather than selects between computed values (with
-      // trapping floating-point math the compiler may move such a value under a branch, and then it does not
-      // vectorise the loop).
+      // Every entry's theta term (as if intact: h is applied after the loop) and its slack to breaking, in a
+      // vector loop: all loads unconditional, no byte column (it would make the vector 32 entries wide, longer
+      // than most rows), and no selects between computed values (with trapping floating-point math the compiler
+      // may move such a value under a branch, and then it does not vectorise the loop). Since s_0 > 0 (G_c > 0,
+      // pd_material.cpp), every bond that eq 11 breaks has a slack above 0.
       DEBRIS_SIMD
       for (int t = 0; t < lanes; ++t) {
         const int k = k0 + t, j = partner[k];
