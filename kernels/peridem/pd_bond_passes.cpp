@@ -163,10 +163,11 @@ inline double max4(const double* v, int count) {
 // The vector loops below run over a row's entries padded to a multiple of kLanes while the padding stays
 // inside the bond arrays: the extra lanes compute terms of the next row's entries (valid indices, finite
 // values) that are never summed, and the loop needs no scalar remainder. kLanes is the widest vector the
-// clones use for these loops (8 ints of 32 bytes).
+// clones use for these loops (8 ints of 32 bytes); a loop with no int column pads to its own width (kTo).
 constexpr int kLanes = 8;
+template <int kTo = kLanes>
 inline int padded_count(int k0, int count, int entries) {
-  const int padded = (count + kLanes - 1) / kLanes * kLanes;
+  const int padded = (count + kTo - 1) / kTo * kTo;
   return k0 + padded <= entries ? padded : count;
 }
 
@@ -403,7 +404,8 @@ DEBRIS_ALWAYS_INLINE void bond_force_body(const RowInputs& in, int r0, int r1) {
     double Fx = 0.0, Fy = 0.0, Fz = 0.0;
     for (int k0 = begin; k0 < end; k0 += kStage) {
       const int count = end - k0 < kStage ? end - k0 : kStage;
-      const int lanes = padded_count(k0, count, entries);
+      // The AVX2 kernel's loop takes 4 doubles an iteration (no int column): padded to 4.
+      const int lanes = padded_count<kFetch ? 4 : kLanes>(k0, count, entries);
       // As in break_and_dilate_rows: every entry as if intact, the broken ones zeroed after the loop.
 #if defined(DEBRIS_PD_FETCH_AVX2)
       if constexpr (kFetch) {
