@@ -56,10 +56,12 @@ struct System {
 };
 
 /// Four grains: a 2D grid, a wall, a 3D grid whose interior rows (about 137 bonds) are longer than a
-/// staging round of the passes, and a grain of two nodes; materials M1 in 2D and in 3D (horizon 0.6 mm).
-System make_system() {
+/// staging round of the passes, and a grain of two nodes; materials M1 in 2D and in 3D (horizon 0.6 mm),
+/// whose bonds break in compression too when `in_compression` (the PeriDEM code's rule).
+System make_system(bool in_compression = false) {
   System s;
-  const PdMaterial m2 = peridem_material_m1(2), m3 = peridem_material_m1(3);
+  PdMaterial m2 = peridem_material_m1(2), m3 = peridem_material_m1(3);
+  m2.break_in_compression = m3.break_in_compression = in_compression ? 1 : 0;
   s.lps = {PdLpsConstants::from(m2), PdLpsConstants::from(m3)};
   const double eps = m2.horizon, h = eps / 3.2;
   s.add_grid(PdGrainKind::particle, 0, eps, {0, 0, 0}, 13, 11, 1, h);
@@ -71,15 +73,16 @@ System make_system() {
   return s;
 }
 
-/// Random displacements of 0.4 s_0 h, a band of the 2D grid pulled past s_0, 10% of the bonds broken
-/// beforehand, and one bond of the 3D grid crushed to zero length.
-void deform(System& s, std::uint64_t seed) {
+/// Random displacements of 0.4 s_0 h, a band of the 2D grid pulled past s_0 (and with `squeeze`, another
+/// pushed past -s_0), 10% of the bonds broken beforehand, and one bond of the 3D grid crushed to zero length.
+void deform(System& s, std::uint64_t seed, bool squeeze = false) {
   const double s0 = s.lps[0].critical_stretch, h = s.lps[0].horizon / 3.2;
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
     const bool flat = s.grains.material[s.nodes.grain[i]] == 0;
-    s.nodes.x[i] = s.nodes.x0[i] + 0.4 * s0 * h * u(rng) + 1.3 * s0 * std::max(0.0, s.nodes.x0[i] - 6 * h);
+    s.nodes.x[i] = s.nodes.x0[i] + 0.4 * s0 * h * u(rng) + 1.3 * s0 * std::max(0.0, s.nodes.x0[i] - 6 * h) +
+                   (squeeze ? 1.3 * s0 * std::max(0.0, 3 * h - s.nodes.x0[i]) : 0.0);
     s.nodes.y[i] = s.nodes.y0[i] + 0.4 * s0 * h * u(rng);
     s.nodes.z[i] = s.nodes.z0[i] + (flat ? 0.0 : 0.4 * s0 * h * u(rng));
   }
@@ -187,11 +190,16 @@ Snapshot snapshot(const System& s, long broke) {
   return {s.nodes.theta, s.nodes.fx, s.nodes.fy, s.nodes.fz, s.bonds.broken, broke};
 }
 
-TEST(PdBondPassesFast, FusedStepEqualsTheSeparatePassesBitForBitOnAnyThreadCount) {
+// On CPUs with AVX2 pd_bond_step runs its own sweeps (intrinsics), the separate passes the compiler's vector
+// loops: equal bits, for either breaking rule.
+class PdBondPassesFastRule : public ::testing::TestWithParam<bool> {};
+
+TEST_P(PdBondPassesFastRule, FusedStepEqualsTheSeparatePassesBitForBitOnAnyThreadCount) {
+  const bool in_compression = GetParam();
   const int saved = exec::threads();
   exec::set_threads(1);
-  System fused = make_system(), separate = make_system(), two = make_system();
-  for (System* s : {&fused, &separate, &two}) deform(*s, 11);
+  System fused = make_system(in_compression), separate = make_system(in_compression), two = make_system(in_compression);
+  for (System* s : {&fused, &separate, &two}) deform(*s, 11, in_compression);
   const Snapshot a = snapshot(fused, test::pd_bond_step(fused.lps, fused.grains, fused.bonds, fused.nodes));
   const long broke = test::break_bonds_reference(separate.lps, separate.grains, separate.bonds, separate.nodes);
   test::pd_dilatation_pass(separate.lps, separate.grains, separate.bonds, separate.nodes);
@@ -203,7 +211,22 @@ TEST(PdBondPassesFast, FusedStepEqualsTheSeparatePassesBitForBitOnAnyThreadCount
   EXPECT_GT(a.broke, 0);
   EXPECT_TRUE(a == b) << "pd_bond_step differs from break + dilatation + force";
   EXPECT_TRUE(a == c) << "pd_bond_step differs between 1 and 2 threads";
+  // Under the compression rule, bonds shortened past s_0 broke too (none would under eq 11 alone).
+  long compressed = 0;
+  const BondList& bonds = fused.bonds;
+  for (int i = 0; i < static_cast<int>(bonds.nodes()); ++i)
+    for (int k = bonds.offset[i]; k < bonds.offset[i + 1]; ++k)
+      compressed += bonds.broken[k] && lps_stretch(norm(position(fused, bonds.partner[k]) - position(fused, i)),
+                                                   bonds.length0[k]) <= -fused.lps[0].critical_stretch;
+  if (in_compression)
+    EXPECT_GT(compressed, 0);
+  else
+    EXPECT_EQ(compressed, 0);
 }
+INSTANTIATE_TEST_SUITE_P(BreakingRule, PdBondPassesFastRule, ::testing::Values(false, true),
+                         [](const ::testing::TestParamInfo<bool>& info) {
+                           return info.param ? std::string("InCompressionToo") : std::string("TensionOnly");
+                         });
 
 /// make_system's grains and ten more 2D grids after them: 71,816 bond entries in 14 grains, so the sweeps'
 /// 17 blocks of about 4,096 entries (cut anywhere in a grain) fall on every kind of grain, and blocks of

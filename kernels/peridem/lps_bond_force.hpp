@@ -86,7 +86,7 @@ struct LpsNodeFactors {
 inline LpsNodeFactors lps_node_factors(const PdLpsConstants& c, double theta, double weighted_volume) {
   if (!(weighted_volume > 0.0)) return LpsNodeFactors{};
   const double inv_m = 1.0 / weighted_volume;
-  return LpsNodeFactors{(c.dimension * c.bulk - c.shear / c.dimension) * theta * inv_m, c.shear * inv_m};
+  return LpsNodeFactors{c.dilatation_factor * theta * inv_m, c.shear * inv_m};
 }
 
 /// Eq 33's bond term from the node factors: the scalar s with (T_i<xi> - T_j<-xi>) V_j = s y, that is

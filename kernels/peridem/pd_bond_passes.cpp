@@ -14,7 +14,7 @@
 #include "core/vec3.hpp"
 #include "kernels/peridem/lps_bond_force.hpp"
 
-// Host builds on x86-64 fetch the force sweep's partner columns with AVX2 (fetch_partners_avx2 below).
+// Host builds on x86-64 have pd_bond_step's sweeps written with AVX2 intrinsics too (below).
 #if !defined(DEBRIS_OFFLOAD_TARGET) && defined(__x86_64__)
 #include <immintrin.h>
 #define DEBRIS_PD_FETCH_AVX2 1
@@ -93,8 +93,9 @@ void pd_weighted_volume_pass(const PdLpsTable& lps, const PdGrains& grains, cons
 
 namespace {
 
-// Host builds compile the row kernels twice (x86-64 and x86-64-v3: AVX2 + FMA; DEBRIS_CLONES) and the
-// loader picks the one the machine runs, as kernels/dem/cohesive_contact_half.cpp does. An AVX-512 clone was
+// Host builds compile the row kernels twice (x86-64 and x86-64-v3: AVX2; DEBRIS_CLONES) and the loader picks
+// the one the machine runs, as kernels/dem/cohesive_contact_half.cpp does (no FMA in this file: both give the
+// same bits). An AVX-512 clone was
 // no faster on the compressive test: its loops take 16 entries per vector, more than half of a typical row
 // (27 entries).
 #define DEBRIS_PD_ROW_CLONES DEBRIS_CLONES
@@ -129,6 +130,8 @@ inline int block_row(const int* offset, int n, int blocks, int b) {
   return lo;
 }
 
+// The sum of v[0, count) in 4 running sums, entry t into sum t mod 4, then (s0 + s1) + (s2 + s3): the order
+// of a 4-lane vector accumulator, so the AVX2 sweeps below (which sum in registers) give the same bits.
 inline double sum4(const double* v, int count) {
   double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
   int t = 0;
@@ -138,7 +141,9 @@ inline double sum4(const double* v, int count) {
     s2 += v[t + 2];
     s3 += v[t + 3];
   }
-  for (; t < count; ++t) s0 += v[t];
+  if (t < count) s0 += v[t];
+  if (t + 1 < count) s1 += v[t + 1];
+  if (t + 2 < count) s2 += v[t + 2];
   return (s0 + s1) + (s2 + s3);
 }
 
@@ -163,11 +168,10 @@ inline double max4(const double* v, int count) {
 // The vector loops below run over a row's entries padded to a multiple of kLanes while the padding stays
 // inside the bond arrays: the extra lanes compute terms of the next row's entries (valid indices, finite
 // values) that are never summed, and the loop needs no scalar remainder. kLanes is the widest vector the
-// clones use for these loops (8 ints of 32 bytes); a loop with no int column pads to its own width (kTo).
+// clones use for these loops (8 ints of 32 bytes).
 constexpr int kLanes = 8;
-template <int kTo = kLanes>
 inline int padded_count(int k0, int count, int entries) {
-  const int padded = (count + kTo - 1) / kTo * kTo;
+  const int padded = (count + kLanes - 1) / kLanes * kLanes;
   return k0 + padded <= entries ? padded : count;
 }
 
@@ -198,59 +202,6 @@ inline void zero_broken(const unsigned char* broken, int k0, int count, double* 
 
 DEBRIS_END_DECLARE_TARGET
 
-#if defined(DEBRIS_PD_FETCH_AVX2)
-// The force sweep of pd_bond_step on CPUs with AVX2 and FMA. Its vector loop, as the compiler writes it, loads
-// the partners' five columns lane by lane and inserts each value with a shuffle; with its square root and
-// division that loop is bound by the shuffle port and the divider together (llvm-mca, Ice Lake server model:
-// 60 cycles per 8 entries, the shuffle port 49 of them, the divider 34), so relieving one alone gained
-// nothing (measured, scenarios/peridem/RESULTS.md, section 9). Here the partners' columns are fetched four
-// entries at a time by broadcast loads and blends, which use no shuffle port, into arrays in entry order,
-// and |y| comes from the dilatation sweep, which computes it anyway (BondList::bond_length): no square
-// root is left in the force sweep. The arithmetic is the same, so are the bits.
-
-// Four partners' values of one column: four broadcast loads and three blends.
-__attribute__((target("avx2,fma"), always_inline)) inline __m256d gather4(const double* a, long j0, long j1, long j2,
-                                                                          long j3) {
-  const __m256d lo = _mm256_blend_pd(_mm256_broadcast_sd(a + j0), _mm256_broadcast_sd(a + j1), 0b1010);
-  const __m256d hi = _mm256_blend_pd(_mm256_broadcast_sd(a + j2), _mm256_broadcast_sd(a + j3), 0b1010);
-  return _mm256_blend_pd(lo, hi, 0b1100);
-}
-
-// The partners' x, y, z (only when z is not null), V and P, Q (interleaved in `factors`) of entries
-// [k0, k0 + lanes), into the arrays sx ... sq in entry order. Inlined into bond_force_rows_avx2, a kernel built
-// for AVX2 alone: a call per stage of a row cost 4-5% of the sweeps (GCC inlines no AVX2 function into a
-// function that target_clones makes, since the clones are made after its early inlining).
-__attribute__((target("avx2,fma"))) inline void fetch_partners_avx2(const int* partner, int k0, int lanes, const double* x,
-                                                             const double* y, const double* z, const double* volume,
-                                                             const double* factors, double* sx, double* sy, double* sz,
-                                                             double* sv, double* sp, double* sq) {
-  int t = 0;
-  for (; t + 4 <= lanes; t += 4) {
-    const long j0 = partner[k0 + t], j1 = partner[k0 + t + 1], j2 = partner[k0 + t + 2], j3 = partner[k0 + t + 3];
-    _mm256_store_pd(sx + t, gather4(x, j0, j1, j2, j3));
-    _mm256_store_pd(sy + t, gather4(y, j0, j1, j2, j3));
-    if (z) _mm256_store_pd(sz + t, gather4(z, j0, j1, j2, j3));
-    _mm256_store_pd(sv + t, gather4(volume, j0, j1, j2, j3));
-    // P, Q of two partners per 128-bit load, then one unpack each for the P and the Q of four.
-    const __m256d a =
-        _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(factors + 2 * j0)), _mm_loadu_pd(factors + 2 * j2), 1);
-    const __m256d b =
-        _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(factors + 2 * j1)), _mm_loadu_pd(factors + 2 * j3), 1);
-    _mm256_store_pd(sp + t, _mm256_unpacklo_pd(a, b));
-    _mm256_store_pd(sq + t, _mm256_unpackhi_pd(a, b));
-  }
-  for (; t < lanes; ++t) {
-    const long j = partner[k0 + t];
-    sx[t] = x[j];
-    sy[t] = y[j];
-    if (z) sz[t] = z[j];
-    sv[t] = volume[j];
-    sp[t] = factors[2 * j];
-    sq[t] = factors[2 * j + 1];
-  }
-}
-#endif
-
 struct RowInputs {
   const int* offset;
   const int* partner;
@@ -274,10 +225,9 @@ DEBRIS_DECLARE_TARGET
 
 // Rows [r0, r1): eq 11 (do_break: mark the intact bonds whose stretch reached s_0; returns the entries
 // marked), then theta_i of eq 34 over the bonds intact after that (do_theta), and the node factors of
-// lps_node_factors (do_factors). One bond length per entry serves both, and is kept in in.lengths for the
-// force sweep when that is not null. kPlanar: every node has the same z, so dz = 0 exactly and |y| is
-// computed from dx, dy alone: the same bits (the 3D sum adds dz dz = 0 last).
-template <bool kPlanar, bool kKeepLengths>
+// lps_node_factors (do_factors). One bond length per entry serves both. kPlanar: every node has the same z,
+// so dz = 0 exactly and |y| is computed from dx, dy alone: the same bits (the 3D sum adds dz dz = 0 last).
+template <bool kPlanar>
 DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int r1) {
   const int* __restrict offset = in.offset;
   const int* __restrict partner = in.partner;
@@ -291,11 +241,6 @@ DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int
   const int may_break = in.do_break;
   long marked = 0;
   double term[kStage], slack[kStage], extension[kStage];
-  double* __restrict lengths = in.lengths;
-  // Keeping |y| (kKeepLengths: in.lengths not null), every lane is stored, padding too: a row's padding writes
-  // the next rows' entries, which those rows write again after it, so the padding stops at the block's end
-  // (another thread's rows begin there). No mask to compute per store.
-  const int pad_end = kKeepLengths ? offset[r1] : in.entries;
   for (int i = r0; i < r1; ++i) {
     const int begin = offset[i], end = offset[i + 1];
     if (begin == end) {
@@ -307,13 +252,13 @@ DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int
     const double xi = x[i], yi = y[i], zi = z[i];
     // A bond is near s_0 within 0.1 per cent of it: far above the roundings of e, s_0 x0 and e / x0, so every
     // bond that eq 11 breaks is near, and few others go through the scalar test below.
-    const double inv_horizon = 1.0 / c.horizon, s0 = c.critical_stretch, near_s0 = 0.999 * s0;
+    const double inv_horizon = c.inv_horizon, s0 = c.critical_stretch, near_s0 = 0.999 * s0;
     const double both = c.break_in_compression;  // 1: |e| is tested, not e (a factor, not a branch)
     const int in_compression = both > 0.0;
     double sum = 0.0;
     for (int k0 = begin; k0 < end; k0 += kStage) {
       const int count = end - k0 < kStage ? end - k0 : kStage;
-      const int lanes = padded_count(k0, count, pad_end);
+      const int lanes = padded_count(k0, count, in.entries);
       // Every entry's theta term (as if intact: h is applied after the loop) and its slack to breaking, in a
       // vector loop: all loads unconditional, no byte column (it would make the vector 32 entries wide, longer
       // than most rows), and no selects between computed values (with trapping floating-point math the compiler
@@ -330,7 +275,6 @@ DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int
           r2 += dz * dz;
         }
         const double length = std::sqrt(r2);
-        if constexpr (kKeepLengths) lengths[k] = length;
         const double e = length - x0;
         const double a = x0 * inv_horizon;
         const double J = std::max(1.0 - a, 0.0);  // lps_influence(a) for a >= 0, without a branch
@@ -379,10 +323,8 @@ DEBRIS_ALWAYS_INLINE double bond_force_scale(double length, double x0, double in
 }
 
 // Rows [r0, r1): f_i += V_i F_i, F_i of eq 33 over the intact bonds, from the node factors. kPlanar: as in
-// break_and_dilate_body; no z component then (it would be s 0 = 0 for every entry). With in.lengths (|y| from
-// this step's dilatation sweep) and the AVX2 fetch, the partners' columns are fetched first (see
-// fetch_partners_avx2); otherwise the vector loop loads them and computes |y| itself.
-template <bool kPlanar, bool kFetch>
+// break_and_dilate_body; no z component then (it would be s 0 = 0 for every entry).
+template <bool kPlanar>
 DEBRIS_ALWAYS_INLINE void bond_force_body(const RowInputs& in, int r0, int r1) {
   const int* __restrict offset = in.offset;
   const int* __restrict partner = in.partner;
@@ -391,53 +333,34 @@ DEBRIS_ALWAYS_INLINE void bond_force_body(const RowInputs& in, int r0, int r1) {
   const double* __restrict x = in.x, * __restrict y = in.y, * __restrict z = in.z;
   const double* __restrict volume = in.volume;
   const double* __restrict factors = in.factors;
-  [[maybe_unused]] const double* __restrict lengths = in.lengths;  // the AVX2 fetch's |y| (host builds)
   double* __restrict fx = in.fx, * __restrict fy = in.fy, * __restrict fz = in.fz;
   const int entries = in.entries;
   double ux[kStage], uy[kStage], uz[kStage];
   for (int i = r0; i < r1; ++i) {
     const int begin = offset[i], end = offset[i + 1];
     if (begin == end) continue;
-    const double inv_horizon = 1.0 / in.lps[in.material[in.grain[i]]].horizon;
+    const double inv_horizon = in.lps[in.material[in.grain[i]]].inv_horizon;
     const double xi = x[i], yi = y[i], zi = z[i];
     const double p_i = factors[2 * i], q_i = factors[2 * i + 1];
     double Fx = 0.0, Fy = 0.0, Fz = 0.0;
     for (int k0 = begin; k0 < end; k0 += kStage) {
       const int count = end - k0 < kStage ? end - k0 : kStage;
-      // The AVX2 kernel's loop takes 4 doubles an iteration (no int column): padded to 4.
-      const int lanes = padded_count<kFetch ? 4 : kLanes>(k0, count, entries);
+      const int lanes = padded_count(k0, count, entries);
       // As in break_and_dilate_rows: every entry as if intact, the broken ones zeroed after the loop.
-#if defined(DEBRIS_PD_FETCH_AVX2)
-      if constexpr (kFetch) {
-        alignas(32) double sx[kStage], sy[kStage], sz[kStage], sv[kStage], sp[kStage], sq[kStage];
-        fetch_partners_avx2(partner, k0, lanes, x, y, kPlanar ? nullptr : z, volume, factors, sx, sy, sz, sv, sp, sq);
-        DEBRIS_SIMD
-        for (int t = 0; t < lanes; ++t) {
-          const double dx = sx[t] - xi, dy = sy[t] - yi, dz = kPlanar ? 0.0 : sz[t] - zi;
-          const double s =
-              bond_force_scale(lengths[k0 + t], length0[k0 + t], inv_horizon, sv[t], p_i + sp[t], q_i + sq[t]);
-          ux[t] = s * dx;
-          uy[t] = s * dy;
-          if constexpr (!kPlanar) uz[t] = s * dz;
+      DEBRIS_SIMD
+      for (int t = 0; t < lanes; ++t) {
+        const int k = k0 + t, j = partner[k];
+        const double dx = x[j] - xi, dy = y[j] - yi;
+        double r2 = dx * dx + dy * dy, dz = 0.0;
+        if constexpr (!kPlanar) {
+          dz = z[j] - zi;
+          r2 += dz * dz;
         }
-      } else
-#endif
-      {
-        DEBRIS_SIMD
-        for (int t = 0; t < lanes; ++t) {
-          const int k = k0 + t, j = partner[k];
-          const double dx = x[j] - xi, dy = y[j] - yi;
-          double r2 = dx * dx + dy * dy, dz = 0.0;
-          if constexpr (!kPlanar) {
-            dz = z[j] - zi;
-            r2 += dz * dz;
-          }
-          const double s = bond_force_scale(std::sqrt(r2), length0[k], inv_horizon, volume[j], p_i + factors[2 * j],
-                                            q_i + factors[2 * j + 1]);
-          ux[t] = s * dx;
-          uy[t] = s * dy;
-          if constexpr (!kPlanar) uz[t] = s * dz;
-        }
+        const double s = bond_force_scale(std::sqrt(r2), length0[k], inv_horizon, volume[j], p_i + factors[2 * j],
+                                          q_i + factors[2 * j + 1]);
+        ux[t] = s * dx;
+        uy[t] = s * dy;
+        if constexpr (!kPlanar) uz[t] = s * dz;
       }
       zero_broken(broken, k0, count, ux, uy, uz);
       Fx += sum4(ux, count);
@@ -452,29 +375,251 @@ DEBRIS_ALWAYS_INLINE void bond_force_body(const RowInputs& in, int r0, int r1) {
 }
 
 DEBRIS_PD_ROW_CLONES long break_and_dilate_rows(const RowInputs& in, int r0, int r1) {
-  return in.planar ? break_and_dilate_body<true, false>(in, r0, r1) : break_and_dilate_body<false, false>(in, r0, r1);
+  return in.planar ? break_and_dilate_body<true>(in, r0, r1) : break_and_dilate_body<false>(in, r0, r1);
 }
 
 DEBRIS_PD_ROW_CLONES void bond_force_rows(const RowInputs& in, int r0, int r1) {
   if (in.planar)
-    bond_force_body<true, false>(in, r0, r1);
+    bond_force_body<true>(in, r0, r1);
   else
-    bond_force_body<false, false>(in, r0, r1);
+    bond_force_body<false>(in, r0, r1);
 }
 
 #if defined(DEBRIS_PD_FETCH_AVX2)
-// The break-and-dilatation sweep that keeps |y| for bond_force_rows_avx2 (in.lengths not null).
-__attribute__((target("arch=x86-64-v3"))) long break_and_dilate_rows_avx2(const RowInputs& in, int r0, int r1) {
-  return in.planar ? break_and_dilate_body<true, true>(in, r0, r1) : break_and_dilate_body<false, true>(in, r0, r1);
+// Both sweeps of pd_bond_step on CPUs with AVX2 (host builds), written with AVX2 intrinsics, four entries an
+// iteration: the partners' columns fetched by broadcast loads and blends (the compiler's vector loops above
+// insert them lane by lane on the shuffle port), every term kept in registers and summed in 4 lanes (sum4's
+// order) instead of staged in arrays and read back, and |y| handed from the dilatation sweep to the force
+// sweep (BondList::bond_length), so the force sweep takes no square root. Each operation is the one the
+// bodies above write, in their order (this file is built without contraction into FMA, so the compiler keeps
+// theirs as written too): the same bits as the clones, which the separate passes run.
+
+// Lane l of an iteration over entries [k, k + 4) belongs to the row while l < count - t (lane_index < rest).
+__attribute__((target("avx2"), always_inline)) inline __m256d lanes_below(int rest) {
+  const __m256i lane_index = _mm256_setr_epi64x(0, 1, 2, 3);
+  return _mm256_castsi256_pd(_mm256_cmpgt_epi64(_mm256_set1_epi64x(rest), lane_index));
 }
 
-// The force sweep with the AVX2 fetch (in.lengths not null: pd_bond_step on a CPU with AVX2 and FMA), built for
-// x86-64-v3 alone so that the fetch is inlined (flatten: the fetch is an AVX2 function, the body is not).
-__attribute__((target("arch=x86-64-v3"), flatten)) void bond_force_rows_avx2(const RowInputs& in, int r0, int r1) {
-  if (in.planar)
-    bond_force_body<true, true>(in, r0, r1);
+// Four partners' values of one column: four broadcast loads and three blends (no shuffle port).
+__attribute__((target("avx2"), always_inline)) inline __m256d gather4(const double* a, const long* j) {
+  const __m256d lo = _mm256_blend_pd(_mm256_broadcast_sd(a + j[0]), _mm256_broadcast_sd(a + j[1]), 0b1010);
+  const __m256d hi = _mm256_blend_pd(_mm256_broadcast_sd(a + j[2]), _mm256_broadcast_sd(a + j[3]), 0b1010);
+  return _mm256_blend_pd(lo, hi, 0b1100);
+}
+
+// Entries [k, k + 4) of one iteration: partners and reference lengths. Lanes at or past `stop` (the end of the
+// list, or of the rows this thread writes) take entry k's values instead: valid, and never summed or stored.
+struct FourEntries {
+  long j[4];
+  __m256d x0;
+};
+__attribute__((target("avx2"), always_inline)) inline FourEntries four_entries(const int* partner,
+                                                                               const double* length0, int k, int stop) {
+  FourEntries f;
+  if (k + 4 <= stop) {
+    for (int l = 0; l < 4; ++l) f.j[l] = partner[k + l];
+    f.x0 = _mm256_loadu_pd(length0 + k);
+  } else {
+    alignas(32) double x0[4];
+    for (int l = 0; l < 4; ++l) {
+      const int kk = k + l < stop ? k + l : k;
+      f.j[l] = partner[kk];
+      x0[l] = length0[kk];
+    }
+    f.x0 = _mm256_load_pd(x0);
+  }
+  return f;
+}
+
+// All ones in the lanes of entries [k, k + min(rest, 4)) that are not broken (rest > 0).
+__attribute__((target("avx2"), always_inline)) inline __m256d intact_lanes(const unsigned char* broken, int k,
+                                                                           int rest) {
+  int word = 0;
+  if (rest >= 4)
+    std::memcpy(&word, broken + k, sizeof word);
   else
-    bond_force_body<false, true>(in, r0, r1);
+    for (int l = 0; l < rest; ++l) word |= broken[k + l] << (8 * l);
+  const __m256i flags = _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(word));
+  return _mm256_castsi256_pd(_mm256_cmpeq_epi64(flags, _mm256_setzero_si256()));
+}
+
+// (v0 + v1) + (v2 + v3): sum4's last step.
+__attribute__((target("avx2"), always_inline)) inline double add_lanes(__m256d v) {
+  alignas(32) double l[4];
+  _mm256_store_pd(l, v);
+  return (l[0] + l[1]) + (l[2] + l[3]);
+}
+
+// break_and_dilate_body with in.lengths: |y| of every entry stored there. A row's last iteration stores the
+// |y| its spare lanes compute for the next row's entries, which that row stores again after it; the lanes stop
+// at the end of the block (offset[r1]), where another thread's rows begin.
+template <bool kPlanar>
+__attribute__((target("arch=x86-64-v3"), always_inline)) inline long break_and_dilate_body_avx2(const RowInputs& in,
+                                                                                               int r0, int r1) {
+  const int* __restrict offset = in.offset;
+  const int* __restrict partner = in.partner;
+  const double* __restrict length0 = in.length0;
+  unsigned char* __restrict broken = in.broken;
+  const double* __restrict x = in.x, * __restrict y = in.y, * __restrict z = in.z;
+  const double* __restrict volume = in.volume, * __restrict m = in.m;
+  double* __restrict theta = in.theta;
+  double* __restrict factors = in.factors;
+  double* __restrict lengths = in.lengths;
+  const int do_theta = in.do_theta, do_factors = in.do_factors;
+  const int may_break = in.do_break;
+  const int stop = offset[r1];
+  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+  const __m256d magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
+  const __m256d all_lanes = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+  long marked = 0;
+  for (int i = r0; i < r1; ++i) {
+    const int begin = offset[i], end = offset[i + 1];
+    if (begin == end) {
+      if (do_theta) theta[i] = 0.0;
+      if (do_factors) factors[2 * i] = factors[2 * i + 1] = 0.0;
+      continue;
+    }
+    const PdLpsConstants c = in.lps[in.material[in.grain[i]]];
+    const __m256d xi = _mm256_set1_pd(x[i]), yi = _mm256_set1_pd(y[i]), zi = _mm256_set1_pd(z[i]);
+    const double s0 = c.critical_stretch;
+    const __m256d inv_horizon = _mm256_set1_pd(c.inv_horizon), near_s0 = _mm256_set1_pd(0.999 * s0);
+    const int in_compression = c.break_in_compression > 0.0;  // the same in every iteration of the row
+    double sum = 0.0;
+    for (int k0 = begin; k0 < end; k0 += kStage) {
+      const int count = end - k0 < kStage ? end - k0 : kStage;
+      const bool any = any_broken(broken, k0, count);
+      __m256d acc = zero;
+      for (int t = 0; t < count; t += 4) {
+        const int k = k0 + t;
+        const FourEntries f = four_entries(partner, length0, k, stop);
+        const __m256d dx = _mm256_sub_pd(gather4(x, f.j), xi), dy = _mm256_sub_pd(gather4(y, f.j), yi);
+        __m256d r2 = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy));
+        if constexpr (!kPlanar) {
+          const __m256d dz = _mm256_sub_pd(gather4(z, f.j), zi);
+          r2 = _mm256_add_pd(r2, _mm256_mul_pd(dz, dz));
+        }
+        const __m256d length = _mm256_sqrt_pd(r2);
+        if (k + 4 <= stop)
+          _mm256_storeu_pd(lengths + k, length);
+        else
+          _mm256_maskstore_pd(lengths + k, _mm256_castpd_si256(lanes_below(stop - k)), length);
+        const __m256d e = _mm256_sub_pd(length, f.x0);
+        const __m256d J = _mm256_max_pd(zero, _mm256_sub_pd(one, _mm256_mul_pd(f.x0, inv_horizon)));  // std::max(1 - a, 0)
+        // break_and_dilate_body's e + both (|e| - e) is exactly |e| for both = 1 (e + 2|e| for e < 0), e for both = 0.
+        const __m256d probe = in_compression ? _mm256_and_pd(e, magnitude) : e;
+        const __m256d slack = _mm256_sub_pd(probe, _mm256_mul_pd(near_s0, f.x0));
+        const __m256d term = _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(J, f.x0), e), gather4(volume, f.j));
+        __m256d keep = all_lanes;
+        if (t + 4 > count) keep = lanes_below(count - t);
+        if (any) keep = _mm256_and_pd(keep, intact_lanes(broken, k, count - t));
+        if (may_break) {
+          const int near = _mm256_movemask_pd(_mm256_and_pd(_mm256_cmp_pd(slack, zero, _CMP_GT_OQ), keep));
+          if (near) {  // eq 11 exactly for the entries near s_0, as break_and_dilate_body tests them
+            alignas(32) double extension[4];
+            alignas(32) long long kept[4];
+            _mm256_store_pd(extension, e);
+            _mm256_store_si256(reinterpret_cast<__m256i*>(kept), _mm256_castpd_si256(keep));
+            for (int l = 0; l < 4; ++l)
+              if ((near >> l & 1) && lps_bond_breaks(extension[l] / length0[k + l], s0, in_compression)) {
+                broken[k + l] = 1;
+                kept[l] = 0;
+                ++marked;
+              }
+            keep = _mm256_castsi256_pd(_mm256_load_si256(reinterpret_cast<const __m256i*>(kept)));
+          }
+        }
+        acc = _mm256_add_pd(acc, _mm256_and_pd(term, keep));
+      }
+      sum += add_lanes(acc);
+    }
+    const double theta_i = lps_dilatation(c, sum, m[i]);
+    if (do_theta) theta[i] = theta_i;
+    if (do_factors) {
+      const LpsNodeFactors fac = lps_node_factors(c, theta_i, m[i]);
+      factors[2 * i] = fac.p;
+      factors[2 * i + 1] = fac.q;
+    }
+  }
+  return marked;
+}
+
+__attribute__((target("arch=x86-64-v3"))) long break_and_dilate_rows_avx2(const RowInputs& in, int r0, int r1) {
+  return in.planar ? break_and_dilate_body_avx2<true>(in, r0, r1) : break_and_dilate_body_avx2<false>(in, r0, r1);
+}
+
+// bond_force_body with |y| read from in.lengths (this step's dilatation sweep).
+template <bool kPlanar>
+__attribute__((target("arch=x86-64-v3"), always_inline)) inline void bond_force_body_avx2(const RowInputs& in, int r0,
+                                                                                         int r1) {
+  const int* __restrict offset = in.offset;
+  const int* __restrict partner = in.partner;
+  const double* __restrict length0 = in.length0;
+  const unsigned char* __restrict broken = in.broken;
+  const double* __restrict x = in.x, * __restrict y = in.y, * __restrict z = in.z;
+  const double* __restrict volume = in.volume;
+  const double* __restrict factors = in.factors;
+  const double* __restrict lengths = in.lengths;
+  double* __restrict fx = in.fx, * __restrict fy = in.fy, * __restrict fz = in.fz;
+  const int stop = in.entries;
+  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+  for (int i = r0; i < r1; ++i) {
+    const int begin = offset[i], end = offset[i + 1];
+    if (begin == end) continue;
+    const __m256d inv_horizon = _mm256_set1_pd(in.lps[in.material[in.grain[i]]].inv_horizon);
+    const __m256d xi = _mm256_set1_pd(x[i]), yi = _mm256_set1_pd(y[i]), zi = _mm256_set1_pd(z[i]);
+    const __m256d p_i = _mm256_set1_pd(factors[2 * i]), q_i = _mm256_set1_pd(factors[2 * i + 1]);
+    double Fx = 0.0, Fy = 0.0, Fz = 0.0;
+    for (int k0 = begin; k0 < end; k0 += kStage) {
+      const int count = end - k0 < kStage ? end - k0 : kStage;
+      const bool any = any_broken(broken, k0, count);
+      __m256d ax = zero, ay = zero, az = zero;
+      for (int t = 0; t < count; t += 4) {
+        const int k = k0 + t;
+        const FourEntries f = four_entries(partner, length0, k, stop);
+        // Every partner column first, while the partner indices are in registers.
+        const __m256d x_j = gather4(x, f.j), y_j = gather4(y, f.j), v_j = gather4(volume, f.j);
+        const __m256d z_j = kPlanar ? zero : gather4(z, f.j);
+        // P, Q of two partners per 128-bit load, then one unpack each for the P and the Q of four.
+        const __m256d pq02 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(factors + 2 * f.j[0])),
+                                                  _mm_loadu_pd(factors + 2 * f.j[2]), 1);
+        const __m256d pq13 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(factors + 2 * f.j[1])),
+                                                  _mm_loadu_pd(factors + 2 * f.j[3]), 1);
+        const __m256d p_sum = _mm256_add_pd(p_i, _mm256_unpacklo_pd(pq02, pq13));
+        const __m256d q_sum = _mm256_add_pd(q_i, _mm256_unpackhi_pd(pq02, pq13));
+        const __m256d length = k + 4 <= stop ? _mm256_loadu_pd(lengths + k)
+                                             : _mm256_maskload_pd(lengths + k, _mm256_castpd_si256(lanes_below(stop - k)));
+        // bond_force_scale: J, then eq 12's ((J V_j) (P x0 + Q e)) / |y|; 1 / |y| is bond_force_scale's for |y| > 0
+        // (1 / (|y| + 0)), and a lane with |y| = 0 (no direction) is masked to s = 0 below, as its 1 / |y| = 0 does.
+        const __m256d inv_length = _mm256_div_pd(one, length);
+        const __m256d J = _mm256_max_pd(zero, _mm256_sub_pd(one, _mm256_mul_pd(f.x0, inv_horizon)));
+        const __m256d e = _mm256_sub_pd(length, f.x0);
+        const __m256d bracket = _mm256_add_pd(_mm256_mul_pd(p_sum, f.x0), _mm256_mul_pd(q_sum, e));
+        __m256d s = _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(J, v_j), bracket), inv_length);
+        // Spare and broken lanes add s 0 = 0 (dx is finite: a position), as zero_broken's zeros do.
+        __m256d keep = _mm256_cmp_pd(length, zero, _CMP_GT_OQ);
+        if (t + 4 > count) keep = _mm256_and_pd(keep, lanes_below(count - t));
+        if (any) keep = _mm256_and_pd(keep, intact_lanes(broken, k, count - t));
+        s = _mm256_and_pd(s, keep);
+        ax = _mm256_add_pd(ax, _mm256_mul_pd(s, _mm256_sub_pd(x_j, xi)));
+        ay = _mm256_add_pd(ay, _mm256_mul_pd(s, _mm256_sub_pd(y_j, yi)));
+        if constexpr (!kPlanar) az = _mm256_add_pd(az, _mm256_mul_pd(s, _mm256_sub_pd(z_j, zi)));
+      }
+      Fx += add_lanes(ax);
+      Fy += add_lanes(ay);
+      if constexpr (!kPlanar) Fz += add_lanes(az);
+    }
+    // Eq 33 is a force density; the node carries V_i of it.
+    fx[i] += volume[i] * Fx;
+    fy[i] += volume[i] * Fy;
+    if constexpr (!kPlanar) fz[i] += volume[i] * Fz;
+  }
+}
+
+__attribute__((target("arch=x86-64-v3"))) void bond_force_rows_avx2(const RowInputs& in, int r0, int r1) {
+  if (in.planar)
+    bond_force_body_avx2<true>(in, r0, r1);
+  else
+    bond_force_body_avx2<false>(in, r0, r1);
 }
 #endif
 

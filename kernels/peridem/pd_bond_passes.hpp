@@ -13,15 +13,16 @@
 //
 // How they run (kernels/peridem/pd_bond_passes.cpp): rows are handed to the threads in blocks of equal bond entries;
 // within a row, a vector loop computes every entry's term into a small local array and a scalar loop sums
-// them in entry order, so the bits depend neither on the thread count nor on the vector width chosen at
-// run time (the host build also has an AVX2 + FMA version; FMA may change the last bits from one machine to
-// another). The force uses t_i<xi> = J (P_i x + Q_i e) with per-node factors P, Q (lps_node_factors, kept in
-// BondList::node_factors): one division per entry (1 / |y|) where eqs 7 and 33 written out take four.
-// In pd_bond_step on x86 CPUs with AVX2 (host builds) the dilatation sweep keeps |y| of every entry
-// (BondList::bond_length, 8 B an entry) and the force sweep fetches the partners' columns four entries at a
-// time with broadcast loads and blends before its vector loop (fetch_partners_avx2): the same arithmetic and
-// bits, no square root. Both sweeps there are kernels built for AVX2 alone (not clones), so the fetch is
-// inlined and |y| is stored for every lane without a mask (scenarios/peridem/RESULTS.md, section 9).
+// them in entry order into 4 running sums (entry t into sum t mod 4), so the bits depend neither on the thread
+// count nor on the vector width chosen at run time, and, since the file is built without contraction into
+// FMA, not on the CPU either. The force uses t_i<xi> = J (P_i x + Q_i e) with per-node factors P, Q
+// (lps_node_factors, kept in BondList::node_factors): one division per entry (1 / |y|) where eqs 7 and 33
+// written out take four.
+// In pd_bond_step on x86 CPUs with AVX2 (host builds) both sweeps are written with AVX2 intrinsics: four
+// entries an iteration, the partners' columns fetched by broadcast loads and blends, every term summed in
+// registers in the same 4-sum order, and |y| handed from the dilatation sweep to the force sweep
+// (BondList::bond_length, 8 B an entry), which then takes no square root: the same operations in the same
+// order as the compiler's loops, so the same bits (scenarios/peridem/RESULTS.md, section 9).
 // When every node has the same z (a 2D deck; pd_nodes_in_one_plane) the sweeps skip z: dz = 0 exactly, so
 // the bits are those of the 3D sweeps, with one column fewer to fetch per entry (a PeriDEM step 1.2x faster
 // on the 502-grain deck, README "The Intel kind again").
