@@ -199,11 +199,12 @@ double node_bytes(const PdNodes& nodes) {
   return b;
 }
 
-// The bond list with the passes' scratch (node_factors, and bond_length where pd_bond_step keeps |y|).
+// The bond list (with each entry's weight J V_j) and the passes' scratch (node_factors, and bond_length where
+// pd_bond_step keeps |y|).
 double bond_bytes(const BondList& bonds) {
   return static_cast<double>(sizeof(int) * (bonds.offset.capacity() + bonds.partner.capacity()) +
-                             sizeof(double) * (bonds.length0.capacity() + bonds.node_factors.capacity() +
-                                               bonds.bond_length.capacity()) +
+                             sizeof(double) * (bonds.length0.capacity() + bonds.weight.capacity() +
+                                               bonds.node_factors.capacity() + bonds.bond_length.capacity()) +
                              bonds.broken.capacity());
 }
 

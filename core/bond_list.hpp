@@ -25,6 +25,9 @@ class BondList {
   exec::DeviceVector<int> partner;             // j of each entry, ascending within a row
   exec::DeviceVector<double> length0;          // reference length |x0_j - x0_i| of each entry
   exec::DeviceVector<unsigned char> broken;    // 1 once broken, never healed
+  /// Each entry's weight in the bond sums, J(x0 / horizon) V_j (lps_bond_weight): written by
+  /// pd_weighted_volume_pass in the reference state (build() leaves it empty; the bond sweeps require it).
+  exec::DeviceVector<double> weight;
 
   /// Scratch of the bond passes (kernels/peridem/pd_bond_passes.cpp), sized by them: the node factors P_i, Q_i of
   /// lps_node_factors, interleaved, written from theta before every force sweep (by pd_bond_step's dilatation
@@ -53,19 +56,21 @@ class BondList {
   static BondList build(const PdNodes& nodes, const PdGrains& grains, const std::vector<double>& horizon_of_grain);
 };
 
-/// Transfer points for the bond data (offset, partner, length0, broken; not the scratch): no-ops in host
-/// builds.
+/// Transfer points for the bond data (offset, partner, length0, broken, weight; not the scratch): no-ops in
+/// host builds.
 inline void to_host(const BondList& b) {
   exec::to_host(b.offset);
   exec::to_host(b.partner);
   exec::to_host(b.length0);
   exec::to_host(b.broken);
+  exec::to_host(b.weight);
 }
 inline void to_device(const BondList& b) {
   exec::to_device(b.offset);
   exec::to_device(b.partner);
   exec::to_device(b.length0);
   exec::to_device(b.broken);
+  exec::to_device(b.weight);
 }
 
 }  // namespace debris

@@ -25,11 +25,11 @@ inline void send(const PdLpsTable& lps, const PdGrains& grains, const BondList& 
   to_device(nodes);
 }
 
-inline void pd_weighted_volume_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
-                                    PdNodes& nodes) {
+inline void pd_weighted_volume_pass(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds, PdNodes& nodes) {
   send(lps, grains, bonds, nodes);
   debris::pd_weighted_volume_pass(lps, grains, bonds, nodes);
   to_host(nodes);
+  exec::to_host(bonds.weight);
 }
 
 inline void pd_dilatation_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds, PdNodes& nodes) {

@@ -123,7 +123,7 @@ int expect_pure_bond_functions(const System& s) {
       if (b.broken[k]) continue;
       const int j = b.partner[k];
       const double x0 = b.length0[k], e = norm(position(s, j) - position(s, i)) - x0;
-      sum += lps_dilatation_term(lps_influence(x0 / c.horizon), x0, e, s.nodes.volume[j]);
+      sum += lps_dilatation_term(lps_bond_weight(lps_influence(x0 / c.horizon), s.nodes.volume[j]), x0, e);
     }
     theta[i] = lps_dilatation(c, sum, s.nodes.weighted_volume[i]);
   }

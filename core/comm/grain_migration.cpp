@@ -29,6 +29,9 @@ void pack_piece(const GrainStore& s, std::size_t g, const std::vector<int>& rows
   pack_records(s.nodes, rows, out);
   const int base = rows.empty() ? 0 : rows.front();
   const bool bonded = !s.bonds.offset.empty();
+  // The bond weights (pd_weighted_volume_pass) travel when the store has them.
+  const bool weighted = bonded && !s.bonds.partner.empty() && s.bonds.weight.size() == s.bonds.partner.size();
+  pack_value(static_cast<unsigned char>(weighted), out);
   for (const int i : rows) {
     const auto u = static_cast<std::size_t>(i);
     const int first = bonded ? s.bonds.offset[u] : 0, last = bonded ? s.bonds.offset[u + 1] : 0;
@@ -38,6 +41,7 @@ void pack_piece(const GrainStore& s, std::size_t g, const std::vector<int>& rows
       pack_value(static_cast<std::int32_t>(s.bonds.partner[ue] - base), out);
       pack_value(s.bonds.length0[ue], out);
       pack_value(s.bonds.broken[ue], out);
+      if (weighted) pack_value(s.bonds.weight[ue], out);
     }
   }
 }
@@ -56,6 +60,7 @@ std::size_t unpack_pieces(const std::vector<char>& in, GrainStore s) {
     const auto [first, count] = u.records(s.nodes);
     s.grains.node_begin[k] = static_cast<int>(first);
     s.grains.node_end[k] = static_cast<int>(first + count);
+    const bool weighted = u.value<unsigned char>() != 0;
     for (std::size_t i = first; i < first + count; ++i) {
       s.nodes.grain[i] = static_cast<int>(k);
       const auto bonds = static_cast<std::size_t>(u.value<std::int32_t>());
@@ -63,11 +68,14 @@ std::size_t unpack_pieces(const std::vector<char>& in, GrainStore s) {
         s.bonds.partner.push_back(static_cast<int>(first) + u.value<std::int32_t>());
         s.bonds.length0.push_back(u.value<double>());
         s.bonds.broken.push_back(u.value<unsigned char>());
+        if (weighted) s.bonds.weight.push_back(u.value<double>());
       }
       s.bonds.offset.push_back(static_cast<int>(s.bonds.partner.size()));
     }
   }
   if (!u.done()) throw std::logic_error("comm: a grain message longer than its grains");
+  // Weights from every piece or from none (a piece without them leaves the store without them).
+  if (s.bonds.weight.size() != s.bonds.partner.size()) s.bonds.weight.clear();
   return n;
 }
 
@@ -153,6 +161,7 @@ std::vector<int> sort_store(GrainStore s) {
   s.bonds = BondList{};
   s.bonds.offset.assign(n + 1, 0);
   const bool bonded = was.offset.size() == n + 1;
+  const bool weighted = !was.partner.empty() && was.weight.size() == was.partner.size();
   for (std::size_t i = 0; i < n; ++i) {
     const auto from = static_cast<std::size_t>(order[i]);
     if (bonded)
@@ -161,6 +170,7 @@ std::vector<int> sort_store(GrainStore s) {
         s.bonds.partner.push_back(now[static_cast<std::size_t>(was.partner[ue])]);
         s.bonds.length0.push_back(was.length0[ue]);
         s.bonds.broken.push_back(was.broken[ue]);
+        if (weighted) s.bonds.weight.push_back(was.weight[ue]);
       }
     s.bonds.offset[i + 1] = static_cast<int>(s.bonds.partner.size());
   }

@@ -44,9 +44,14 @@ inline double lps_weighted_volume_term(double J, double length0, double volume_j
   return J * length0 * length0 * volume_j;
 }
 
-/// One intact bond's term of the sum in theta_i (eq 34): J x e V_j.
-inline double lps_dilatation_term(double J, double length0, double extension, double volume_j) {
-  return J * length0 * extension * volume_j;
+/// A bond's weight in theta and in the force (eqs 13 and 33, h aside): J(x / eps) V_j, fixed in the reference
+/// configuration (pd_weighted_volume_pass keeps it per bond entry in BondList::weight, so the sweeps neither
+/// fetch V_j nor evaluate J).
+inline double lps_bond_weight(double J, double volume_j) { return J * volume_j; }
+
+/// One intact bond's term of the sum in theta_i (eq 34): J x e V_j, from the bond's weight J V_j.
+inline double lps_dilatation_term(double weight, double length0, double extension) {
+  return weight * length0 * extension;
 }
 
 /// theta_i = (d / m_i) sum (eq 34); a node without bonds (m_i = 0) has no dilatation.
@@ -90,11 +95,12 @@ inline LpsNodeFactors lps_node_factors(const PdLpsConstants& c, double theta, do
 }
 
 /// Eq 33's bond term from the node factors: the scalar s with (T_i<xi> - T_j<-xi>) V_j = s y, that is
-/// (t_i + t_j) V_j / |y| = J V_j ((P_i + P_j) x + (Q_i + Q_j) e) / |y|. inv_length = 1 / |y| (0 for a bond
-/// crushed to zero length: no direction, no force). The same force as lps_bond_force up to round-off.
-inline double lps_bond_force_scale(double J, double length0, double extension, double volume_j, double p_sum,
-                                   double q_sum, double inv_length) {
-  return J * volume_j * (p_sum * length0 + q_sum * extension) * inv_length;
+/// (t_i + t_j) V_j / |y| = J V_j ((P_i + P_j) x + (Q_i + Q_j) e) / |y|, from the bond's weight J V_j
+/// (lps_bond_weight). inv_length = 1 / |y| (0 for a bond crushed to zero length: no direction, no force). The
+/// same force as lps_bond_force up to round-off.
+inline double lps_bond_force_scale(double weight, double length0, double extension, double p_sum, double q_sum,
+                                   double inv_length) {
+  return weight * (p_sum * length0 + q_sum * extension) * inv_length;
 }
 
 /// Isotropic part of the LPS energy density at a node: k theta^2 / 2.

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 #include "core/block_sums.hpp"
@@ -66,9 +67,9 @@ BondView view(const PdLpsTable& lps, const PdGrains& grains, const BondList& bon
 
 }  // namespace
 
-void pd_weighted_volume_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
-                             PdNodes& nodes) {
+void pd_weighted_volume_pass(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds, PdNodes& nodes) {
   const BondView b = view(lps, grains, bonds, nodes);
+  bonds.weight.resize(bonds.entries());
   const int n = b.n;
   const int* __restrict offset = b.offset, * __restrict partner = b.partner;
   const int* __restrict grain = b.grain, * __restrict material = b.material;
@@ -76,15 +77,17 @@ void pd_weighted_volume_pass(const PdLpsTable& lps, const PdGrains& grains, cons
   const PdLpsConstants* __restrict table = b.lps;
   const double* __restrict volume = nodes.volume.data();
   double* __restrict m = nodes.weighted_volume.data();
-  DEBRIS_RESIDENT(offset, partner, grain, material, length0, table, volume, m);
+  double* __restrict weight = bonds.weight.data();
+  DEBRIS_RESIDENT(offset, partner, grain, material, length0, table, volume, m, weight);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {
     double sum = 0.0;
     if (offset[i] < offset[i + 1]) {
       const double horizon = table[material[grain[i]]].horizon;
       for (int k = offset[i]; k < offset[i + 1]; ++k) {
-        const double x = length0[k];
-        sum += lps_weighted_volume_term(lps_influence(x / horizon), x, volume[partner[k]]);
+        const double x = length0[k], J = lps_influence(x / horizon), v_j = volume[partner[k]];
+        sum += lps_weighted_volume_term(J, x, v_j);
+        weight[k] = lps_bond_weight(J, v_j);
       }
     }
     m[i] = sum;
@@ -206,6 +209,7 @@ struct RowInputs {
   const int* offset;
   const int* partner;
   const double* length0;
+  const double* weight;   // J V_j of each entry (BondList::weight)
   unsigned char* broken;  // written by the break step only
   const int* grain;
   const int* material;
@@ -232,9 +236,10 @@ DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int
   const int* __restrict offset = in.offset;
   const int* __restrict partner = in.partner;
   const double* __restrict length0 = in.length0;
+  const double* __restrict weight = in.weight;
   unsigned char* __restrict broken = in.broken;
   const double* __restrict x = in.x, * __restrict y = in.y, * __restrict z = in.z;
-  const double* __restrict volume = in.volume, * __restrict m = in.m;
+  const double* __restrict m = in.m;
   double* __restrict theta = in.theta;
   double* __restrict factors = in.factors;
   const int do_theta = in.do_theta, do_factors = in.do_factors;
@@ -252,7 +257,7 @@ DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int
     const double xi = x[i], yi = y[i], zi = z[i];
     // A bond is near s_0 within 0.1 per cent of it: far above the roundings of e, s_0 x0 and e / x0, so every
     // bond that eq 11 breaks is near, and few others go through the scalar test below.
-    const double inv_horizon = c.inv_horizon, s0 = c.critical_stretch, near_s0 = 0.999 * s0;
+    const double s0 = c.critical_stretch, near_s0 = 0.999 * s0;
     const double both = c.break_in_compression;  // 1: |e| is tested, not e (a factor, not a branch)
     const int in_compression = both > 0.0;
     double sum = 0.0;
@@ -268,7 +273,7 @@ DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int
       for (int t = 0; t < lanes; ++t) {
         const int k = k0 + t, j = partner[k];
         const double dx = x[j] - xi, dy = y[j] - yi;
-        const double x0 = length0[k], v_j = volume[j];
+        const double x0 = length0[k];
         double r2 = dx * dx + dy * dy;
         if constexpr (!kPlanar) {
           const double dz = z[j] - zi;
@@ -276,14 +281,12 @@ DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int
         }
         const double length = std::sqrt(r2);
         const double e = length - x0;
-        const double a = x0 * inv_horizon;
-        const double J = std::max(1.0 - a, 0.0);  // lps_influence(a) for a >= 0, without a branch
         // Near s_0 when e > 0.999 s_0 x0, that is when this slack is above 0 (a multiplication, not the division
         // of the stretch; rounded, e at or below it still means e / x0 < s_0 for certain).
         const double probe = e + both * (std::fabs(e) - e);  // e, or |e| when compression breaks bonds too
         slack[t] = probe - near_s0 * x0;
         extension[t] = e;
-        term[t] = lps_dilatation_term(J, x0, e, v_j);
+        term[t] = lps_dilatation_term(weight[k], x0, e);
       }
       // A bond broken before this step adds nothing to theta and is not broken again.
       // (Its slack becomes 0: not near.)
@@ -312,14 +315,12 @@ DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int
 }
 
 // Eq 33's bond term of one entry as the scalar s of lps_bond_force_scale (the term is s y), from |y|, the
-// reference length x0 and the sums P_i + P_j, Q_i + Q_j, with the sweeps' branch-free 1 / |y| and J.
-DEBRIS_ALWAYS_INLINE double bond_force_scale(double length, double x0, double inv_horizon, double v_j, double p_sum,
-                                             double q_sum) {
+// reference length x0, the weight J V_j and the sums P_i + P_j, Q_i + Q_j, with the sweeps' branch-free 1 / |y|.
+DEBRIS_ALWAYS_INLINE double bond_force_scale(double length, double x0, double weight, double p_sum, double q_sum) {
   // 1 / |y|, or 0 when |y| is 0 (no direction), as arithmetic: a division under a branch may trap.
   const double has_length = static_cast<double>(length > 0.0);
   const double inv_length = has_length / (length + (1.0 - has_length));
-  const double J = std::max(1.0 - x0 * inv_horizon, 0.0);  // lps_influence(x0 / horizon) for x0 >= 0, without a branch
-  return lps_bond_force_scale(J, x0, length - x0, v_j, p_sum, q_sum, inv_length);  // eq 12
+  return lps_bond_force_scale(weight, x0, length - x0, p_sum, q_sum, inv_length);  // eq 12
 }
 
 // Rows [r0, r1): f_i += V_i F_i, F_i of eq 33 over the intact bonds, from the node factors. kPlanar: as in
@@ -329,6 +330,7 @@ DEBRIS_ALWAYS_INLINE void bond_force_body(const RowInputs& in, int r0, int r1) {
   const int* __restrict offset = in.offset;
   const int* __restrict partner = in.partner;
   const double* __restrict length0 = in.length0;
+  const double* __restrict weight = in.weight;
   const unsigned char* __restrict broken = in.broken;
   const double* __restrict x = in.x, * __restrict y = in.y, * __restrict z = in.z;
   const double* __restrict volume = in.volume;
@@ -339,7 +341,6 @@ DEBRIS_ALWAYS_INLINE void bond_force_body(const RowInputs& in, int r0, int r1) {
   for (int i = r0; i < r1; ++i) {
     const int begin = offset[i], end = offset[i + 1];
     if (begin == end) continue;
-    const double inv_horizon = in.lps[in.material[in.grain[i]]].inv_horizon;
     const double xi = x[i], yi = y[i], zi = z[i];
     const double p_i = factors[2 * i], q_i = factors[2 * i + 1];
     double Fx = 0.0, Fy = 0.0, Fz = 0.0;
@@ -356,8 +357,8 @@ DEBRIS_ALWAYS_INLINE void bond_force_body(const RowInputs& in, int r0, int r1) {
           dz = z[j] - zi;
           r2 += dz * dz;
         }
-        const double s = bond_force_scale(std::sqrt(r2), length0[k], inv_horizon, volume[j], p_i + factors[2 * j],
-                                          q_i + factors[2 * j + 1]);
+        const double s =
+            bond_force_scale(std::sqrt(r2), length0[k], weight[k], p_i + factors[2 * j], q_i + factors[2 * j + 1]);
         ux[t] = s * dx;
         uy[t] = s * dy;
         if constexpr (!kPlanar) uz[t] = s * dz;
@@ -431,6 +432,11 @@ __attribute__((target("avx2"), always_inline)) inline FourEntries four_entries(c
   return f;
 }
 
+// Entries [k, k + 4) of a column of doubles; lanes at or past `stop` read as 0 (masked: nothing is read there).
+__attribute__((target("avx2"), always_inline)) inline __m256d load_four(const double* a, int k, int stop) {
+  return k + 4 <= stop ? _mm256_loadu_pd(a + k) : _mm256_maskload_pd(a + k, _mm256_castpd_si256(lanes_below(stop - k)));
+}
+
 // All ones in the lanes of entries [k, k + min(rest, 4)) that are not broken (rest > 0).
 __attribute__((target("avx2"), always_inline)) inline __m256d intact_lanes(const unsigned char* broken, int k,
                                                                            int rest) {
@@ -459,16 +465,17 @@ __attribute__((target("arch=x86-64-v3"), always_inline)) inline long break_and_d
   const int* __restrict offset = in.offset;
   const int* __restrict partner = in.partner;
   const double* __restrict length0 = in.length0;
+  const double* __restrict weight = in.weight;
   unsigned char* __restrict broken = in.broken;
   const double* __restrict x = in.x, * __restrict y = in.y, * __restrict z = in.z;
-  const double* __restrict volume = in.volume, * __restrict m = in.m;
+  const double* __restrict m = in.m;
   double* __restrict theta = in.theta;
   double* __restrict factors = in.factors;
   double* __restrict lengths = in.lengths;
   const int do_theta = in.do_theta, do_factors = in.do_factors;
   const int may_break = in.do_break;
   const int stop = offset[r1];
-  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+  const __m256d zero = _mm256_setzero_pd();
   const __m256d magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
   const __m256d all_lanes = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
   long marked = 0;
@@ -482,7 +489,7 @@ __attribute__((target("arch=x86-64-v3"), always_inline)) inline long break_and_d
     const PdLpsConstants c = in.lps[in.material[in.grain[i]]];
     const __m256d xi = _mm256_set1_pd(x[i]), yi = _mm256_set1_pd(y[i]), zi = _mm256_set1_pd(z[i]);
     const double s0 = c.critical_stretch;
-    const __m256d inv_horizon = _mm256_set1_pd(c.inv_horizon), near_s0 = _mm256_set1_pd(0.999 * s0);
+    const __m256d near_s0 = _mm256_set1_pd(0.999 * s0);
     const int in_compression = c.break_in_compression > 0.0;  // the same in every iteration of the row
     double sum = 0.0;
     for (int k0 = begin; k0 < end; k0 += kStage) {
@@ -504,11 +511,10 @@ __attribute__((target("arch=x86-64-v3"), always_inline)) inline long break_and_d
         else
           _mm256_maskstore_pd(lengths + k, _mm256_castpd_si256(lanes_below(stop - k)), length);
         const __m256d e = _mm256_sub_pd(length, f.x0);
-        const __m256d J = _mm256_max_pd(zero, _mm256_sub_pd(one, _mm256_mul_pd(f.x0, inv_horizon)));  // std::max(1 - a, 0)
         // break_and_dilate_body's e + both (|e| - e) is exactly |e| for both = 1 (e + 2|e| for e < 0), e for both = 0.
         const __m256d probe = in_compression ? _mm256_and_pd(e, magnitude) : e;
         const __m256d slack = _mm256_sub_pd(probe, _mm256_mul_pd(near_s0, f.x0));
-        const __m256d term = _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(J, f.x0), e), gather4(volume, f.j));
+        const __m256d term = _mm256_mul_pd(_mm256_mul_pd(load_four(weight, k, stop), f.x0), e);
         __m256d keep = all_lanes;
         if (t + 4 > count) keep = lanes_below(count - t);
         if (any) keep = _mm256_and_pd(keep, intact_lanes(broken, k, count - t));
@@ -554,6 +560,7 @@ __attribute__((target("arch=x86-64-v3"), always_inline)) inline void bond_force_
   const int* __restrict offset = in.offset;
   const int* __restrict partner = in.partner;
   const double* __restrict length0 = in.length0;
+  const double* __restrict weight = in.weight;
   const unsigned char* __restrict broken = in.broken;
   const double* __restrict x = in.x, * __restrict y = in.y, * __restrict z = in.z;
   const double* __restrict volume = in.volume;
@@ -565,7 +572,6 @@ __attribute__((target("arch=x86-64-v3"), always_inline)) inline void bond_force_
   for (int i = r0; i < r1; ++i) {
     const int begin = offset[i], end = offset[i + 1];
     if (begin == end) continue;
-    const __m256d inv_horizon = _mm256_set1_pd(in.lps[in.material[in.grain[i]]].inv_horizon);
     const __m256d xi = _mm256_set1_pd(x[i]), yi = _mm256_set1_pd(y[i]), zi = _mm256_set1_pd(z[i]);
     const __m256d p_i = _mm256_set1_pd(factors[2 * i]), q_i = _mm256_set1_pd(factors[2 * i + 1]);
     double Fx = 0.0, Fy = 0.0, Fz = 0.0;
@@ -577,7 +583,7 @@ __attribute__((target("arch=x86-64-v3"), always_inline)) inline void bond_force_
         const int k = k0 + t;
         const FourEntries f = four_entries(partner, length0, k, stop);
         // Every partner column first, while the partner indices are in registers.
-        const __m256d x_j = gather4(x, f.j), y_j = gather4(y, f.j), v_j = gather4(volume, f.j);
+        const __m256d x_j = gather4(x, f.j), y_j = gather4(y, f.j);
         const __m256d z_j = kPlanar ? zero : gather4(z, f.j);
         // P, Q of two partners per 128-bit load, then one unpack each for the P and the Q of four.
         const __m256d pq02 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(factors + 2 * f.j[0])),
@@ -586,15 +592,13 @@ __attribute__((target("arch=x86-64-v3"), always_inline)) inline void bond_force_
                                                   _mm_loadu_pd(factors + 2 * f.j[3]), 1);
         const __m256d p_sum = _mm256_add_pd(p_i, _mm256_unpacklo_pd(pq02, pq13));
         const __m256d q_sum = _mm256_add_pd(q_i, _mm256_unpackhi_pd(pq02, pq13));
-        const __m256d length = k + 4 <= stop ? _mm256_loadu_pd(lengths + k)
-                                             : _mm256_maskload_pd(lengths + k, _mm256_castpd_si256(lanes_below(stop - k)));
-        // bond_force_scale: J, then eq 12's ((J V_j) (P x0 + Q e)) / |y|; 1 / |y| is bond_force_scale's for |y| > 0
+        const __m256d length = load_four(lengths, k, stop);
+        // bond_force_scale: eq 12's (J V_j (P x0 + Q e)) / |y|; 1 / |y| is bond_force_scale's for |y| > 0
         // (1 / (|y| + 0)), and a lane with |y| = 0 (no direction) is masked to s = 0 below, as its 1 / |y| = 0 does.
         const __m256d inv_length = _mm256_div_pd(one, length);
-        const __m256d J = _mm256_max_pd(zero, _mm256_sub_pd(one, _mm256_mul_pd(f.x0, inv_horizon)));
         const __m256d e = _mm256_sub_pd(length, f.x0);
         const __m256d bracket = _mm256_add_pd(_mm256_mul_pd(p_sum, f.x0), _mm256_mul_pd(q_sum, e));
-        __m256d s = _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(J, v_j), bracket), inv_length);
+        __m256d s = _mm256_mul_pd(_mm256_mul_pd(load_four(weight, k, stop), bracket), inv_length);
         // Spare and broken lanes add s 0 = 0 (dx is finite: a position), as zero_broken's zeros do.
         __m256d keep = _mm256_cmp_pd(length, zero, _CMP_GT_OQ);
         if (t + 4 > count) keep = _mm256_and_pd(keep, lanes_below(count - t));
@@ -645,11 +649,15 @@ bool nodes_in_one_plane(int n, const double* z) {
 RowInputs row_inputs(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                      const PdNodes& nodes) {
   const BondView b = view(lps, grains, bonds, nodes);
+  if (bonds.weight.size() != bonds.entries())
+    throw std::logic_error("bond passes: the bond list has " + std::to_string(bonds.weight.size()) + " weights for " +
+                           std::to_string(bonds.entries()) + " entries: run pd_weighted_volume_pass after building it");
   bonds.node_factors.resize(2 * nodes.size());
   RowInputs in{};
   in.offset = b.offset;
   in.partner = b.partner;
   in.length0 = b.length0;
+  in.weight = bonds.weight.data();
   in.grain = b.grain;
   in.material = b.material;
   in.lps = b.lps;
@@ -681,7 +689,7 @@ RowInputs row_inputs_with_outputs(const PdLpsTable& lps, const PdGrains& grains,
 // inside a struct.
 #define DEBRIS_PD_ROW_LOCALS(h)                                                                            \
   const int *offset = h.offset, *partner = h.partner, *grain = h.grain, *material = h.material;            \
-  const double *length0 = h.length0, *x = h.x, *y = h.y, *z = h.z, *volume = h.volume, *m = h.m;           \
+  const double *length0 = h.length0, *weight = h.weight, *x = h.x, *y = h.y, *z = h.z, *volume = h.volume, *m = h.m;           \
   const PdLpsConstants* lps = h.lps;                                                                       \
   unsigned char* broken = h.broken;                                                                        \
   double *theta = h.theta, *factors = h.factors, *lengths = h.lengths, *fx = h.fx, *fy = h.fy, *fz = h.fz; \
@@ -690,13 +698,13 @@ RowInputs row_inputs_with_outputs(const PdLpsTable& lps, const PdGrains& grains,
 
 #define DEBRIS_PD_ROW_INPUTS                                                                                         \
   RowInputs {                                                                                                        \
-    offset, partner, length0, broken, grain, material, lps, x, y, z, volume, m, theta, factors, lengths, fx, fy, fz, \
+    offset, partner, length0, weight, broken, grain, material, lps, x, y, z, volume, m, theta, factors, lengths, fx, fy, fz, \
         n, blocks, entries, do_break, do_theta, do_factors, planar                                                   \
   }
 
 long run_break_and_dilate(const RowInputs& host) {
   DEBRIS_PD_ROW_LOCALS(host);
-  DEBRIS_RESIDENT(offset, partner, grain, material, length0, x, y, z, volume, m, lps, broken, theta, factors);
+  DEBRIS_RESIDENT(offset, partner, grain, material, length0, weight, x, y, z, volume, m, lps, broken, theta, factors);
   long marked = 0;
   DEBRIS_KERNEL_SUM(marked)
   for (int b = 0; b < blocks; ++b) {
@@ -714,7 +722,7 @@ long run_break_and_dilate(const RowInputs& host) {
 
 void run_bond_force(const RowInputs& host) {
   DEBRIS_PD_ROW_LOCALS(host);
-  DEBRIS_RESIDENT(offset, partner, grain, material, length0, x, y, z, volume, lps, broken, factors, fx, fy, fz);
+  DEBRIS_RESIDENT(offset, partner, grain, material, length0, weight, x, y, z, volume, lps, broken, factors, fx, fy, fz);
   DEBRIS_KERNEL
   for (int b = 0; b < blocks; ++b) {
     const RowInputs in = DEBRIS_PD_ROW_INPUTS;

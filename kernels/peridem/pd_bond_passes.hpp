@@ -17,7 +17,8 @@
 // count nor on the vector width chosen at run time, and, since the file is built without contraction into
 // FMA, not on the CPU either. The force uses t_i<xi> = J (P_i x + Q_i e) with per-node factors P, Q
 // (lps_node_factors, kept in BondList::node_factors): one division per entry (1 / |y|) where eqs 7 and 33
-// written out take four.
+// written out take four; each entry's J V_j is kept from the reference state (BondList::weight, written by
+// pd_weighted_volume_pass), so no sweep fetches V_j or evaluates J.
 // In pd_bond_step on x86 CPUs with AVX2 (host builds) both sweeps are written with AVX2 intrinsics: four
 // entries an iteration, the partners' columns fetched by broadcast loads and blends, every term summed in
 // registers in the same 4-sum order, and |y| handed from the dilatation sweep to the force sweep
@@ -46,10 +47,10 @@ class PdNodes;
 struct PdGrains;
 class BondList;
 
-/// m_i of eq 34 over all bonds of i (broken or not: m is a property of the reference configuration).
-/// Throws InputError if a particle grain's material index is outside `lps`.
-void pd_weighted_volume_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
-                             PdNodes& nodes);
+/// m_i of eq 34 over all bonds of i (broken or not: m is a property of the reference configuration), and
+/// each entry's weight J V_j into bonds.weight, which the other passes read: run it after building (or
+/// restoring) the bonds. Throws InputError if a particle grain's material index is outside `lps`.
+void pd_weighted_volume_pass(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds, PdNodes& nodes);
 
 /// theta_i of eqs 13/34 from the current positions over the intact bonds (h = 0 for broken ones).
 void pd_dilatation_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,

@@ -50,7 +50,6 @@ PdLpsConstants PdLpsConstants::from(const PdMaterial& m, const char* prefix) {
   }
   c.critical_stretch = pd_critical_stretch(m);
   c.break_in_compression = m.break_in_compression ? 1.0 : 0.0;
-  c.inv_horizon = 1.0 / c.horizon;
   c.dilatation_factor = c.dimension * c.bulk - c.shear / c.dimension;
   return c;
 }

@@ -54,9 +54,7 @@ struct PdLpsConstants {
   double shear = 0;             // a G: 15 G (3D), 8 G (plane strain)
   double critical_stretch = 0;  // s_0 of eq 10 (+infinity when G_c is)
   double break_in_compression = 0;  // 1: bonds break at |s| >= s_0, 0: at s >= s_0 (eq 11)
-  // Derived by from(), so that the bond sweeps divide per bond row by nothing but m_i:
-  double inv_horizon = 0;        // 1 / epsilon
-  double dilatation_factor = 0;  // d k - a G / d: P_i = (d k - a G / d) theta_i / m_i (lps_node_factors)
+  double dilatation_factor = 0;  // d k - a G / d (derived by from()): P_i = this theta_i / m_i (lps_node_factors)
 
   /// Validates the material (InputError naming `prefix.key`) and derives the constants.
   static PdLpsConstants from(const PdMaterial& m, const char* prefix = "material");

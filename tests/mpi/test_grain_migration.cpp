@@ -72,6 +72,10 @@ System make_grains() {
       const std::int64_t a = std::min(s.nodes.id[i], s.nodes.id[j]), b = std::max(s.nodes.id[i], s.nodes.id[j]);
       s.bonds.broken[static_cast<std::size_t>(e)] = (a * 31 + b * 17) % 5 == 0 ? 1 : 0;
     }
+  // Weights as pd_weighted_volume_pass leaves them, one per entry (values that tell entries apart).
+  s.bonds.weight.resize(s.bonds.entries());
+  for (std::size_t e = 0; e < s.bonds.entries(); ++e)
+    s.bonds.weight[e] = s.bonds.length0[e] * (1.0 + 1e-3 * s.bonds.partner[e]);
   return s;
 }
 
@@ -148,12 +152,14 @@ std::string check(const Decomposition& d, System& mine, System& whole) {
         const auto a = static_cast<std::size_t>(mine.bonds.offset[i] + e), b = static_cast<std::size_t>(whole.bonds.offset[j] + e);
         if (mine.bonds.partner[a] - static_cast<int>(mb) != whole.bonds.partner[b] - static_cast<int>(wb) ||
             std::memcmp(&mine.bonds.length0[a], &whole.bonds.length0[b], sizeof(double)) != 0 ||
-            mine.bonds.broken[a] != whole.bonds.broken[b])
+            mine.bonds.broken[a] != whole.bonds.broken[b] ||
+            std::memcmp(&mine.bonds.weight[a], &whole.bonds.weight[b], sizeof(double)) != 0)
           return which + ": bond rows differ";
       }
     }
   }
   if (mine.bonds.offset.size() != mine.nodes.size() + 1) return "bond offsets do not match the nodes";
+  if (mine.bonds.weight.size() != mine.bonds.entries()) return "the bond weights did not travel with the rows";
   return "";
 }
 

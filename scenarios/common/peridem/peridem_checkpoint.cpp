@@ -29,6 +29,7 @@
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/io/hdf5_file.hpp"
+#include "kernels/peridem/pd_bond_passes.hpp"
 #include "scenarios/common/run/checkpoint_file.hpp"
 #include "scenarios/common/peridem/peridem_simulation.hpp"
 
@@ -408,6 +409,10 @@ PeridemSimulation PeridemSimulation::restore(const h5::File& f, std::string* inp
     to_device(sim.grains_);
     to_device(sim.bonds_);
     exec::to_device(sim.lps_);
+    // The bond weights are derived, not saved: the pass that made them (m_i again too, the same bits as saved).
+    pd_weighted_volume_pass(sim.lps_, sim.grains_, sim.bonds_, sim.nodes_);
+    exec::to_host(sim.nodes_.weighted_volume);
+    exec::to_host(sim.bonds_.weight);
     sim.nodes_edited_ = sim.grains_edited_ = false;
     PdNodes at_build = sim.nodes_;
     at_build.x.assign(x.begin(), x.end());

@@ -114,6 +114,7 @@ PeridemSimulation::PeridemSimulation(PdNodes nodes, PdGrains grains, std::vector
   exec::to_device(lps_);
   pd_weighted_volume_pass(lps_, grains_, bonds_, nodes_);
   exec::to_host(nodes_.weighted_volume);  // the host copy complete (the power iteration copies the nodes)
+  exec::to_host(bonds_.weight);           // and the bond weights' (to_device(bonds) sends them again)
 
   // The stable step of eq 32 for these bonds and contacts (kernels/peridem/pd_stable_step.hpp).
   stable_dt_ = pd_stable_time_step(nodes_, grains_, bonds_, lps_, materials_, table_, mesh_size_);
