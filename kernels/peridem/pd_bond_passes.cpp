@@ -408,16 +408,20 @@ __attribute__((target("avx2"), always_inline)) inline __m256d gather4(const doub
   return _mm256_blend_pd(lo, hi, 0b1100);
 }
 
-// Entries [k, k + 4) of one iteration: partners and reference lengths. Lanes at or past `stop` (the end of the
-// list, or of the rows this thread writes) take entry k's values instead: valid, and never summed or stored.
+// The sweeps' loop bodies are lambdas, inlined and built for AVX2 like the kernels around them.
+#define AVX2_INLINE __attribute__((target("arch=x86-64-v3"), always_inline))
+
+// Entries [k, k + 4) of one iteration: partners and reference lengths. kGuarded: lanes at or past `stop` (the
+// end of the list, or of the rows this thread writes) take entry k's values instead: valid, and never summed
+// or stored.
 struct FourEntries {
   long j[4];
   __m256d x0;
 };
-__attribute__((target("avx2"), always_inline)) inline FourEntries four_entries(const int* partner,
-                                                                               const double* length0, int k, int stop) {
+template <bool kGuarded>
+AVX2_INLINE inline FourEntries four_entries(const int* partner, const double* length0, int k, int stop) {
   FourEntries f;
-  if (k + 4 <= stop) {
+  if (!kGuarded || k + 4 <= stop) {
     for (int l = 0; l < 4; ++l) f.j[l] = partner[k + l];
     f.x0 = _mm256_loadu_pd(length0 + k);
   } else {
@@ -432,9 +436,19 @@ __attribute__((target("avx2"), always_inline)) inline FourEntries four_entries(c
   return f;
 }
 
-// Entries [k, k + 4) of a column of doubles; lanes at or past `stop` read as 0 (masked: nothing is read there).
-__attribute__((target("avx2"), always_inline)) inline __m256d load_four(const double* a, int k, int stop) {
-  return k + 4 <= stop ? _mm256_loadu_pd(a + k) : _mm256_maskload_pd(a + k, _mm256_castpd_si256(lanes_below(stop - k)));
+// Entries [k, k + 4) of a column of doubles. kGuarded: lanes at or past `stop` read as 0 (nothing is read
+// there), or are not written.
+template <bool kGuarded>
+AVX2_INLINE inline __m256d load_four(const double* a, int k, int stop) {
+  if (!kGuarded || k + 4 <= stop) return _mm256_loadu_pd(a + k);
+  return _mm256_maskload_pd(a + k, _mm256_castpd_si256(lanes_below(stop - k)));
+}
+template <bool kGuarded>
+AVX2_INLINE inline void store_four(double* a, int k, int stop, __m256d v) {
+  if (!kGuarded || k + 4 <= stop)
+    _mm256_storeu_pd(a + k, v);
+  else
+    _mm256_maskstore_pd(a + k, _mm256_castpd_si256(lanes_below(stop - k)), v);
 }
 
 // All ones in the lanes of entries [k, k + min(rest, 4)) that are not broken (rest > 0).
@@ -496,9 +510,11 @@ __attribute__((target("arch=x86-64-v3"), always_inline)) inline long break_and_d
       const int count = end - k0 < kStage ? end - k0 : kStage;
       const bool any = any_broken(broken, k0, count);
       __m256d acc = zero;
-      for (int t = 0; t < count; t += 4) {
+      // Entries [k0 + t, k0 + t + 4). kMasked: lanes past the row's count, or broken ones, add nothing;
+      // kGuarded: lanes at or past `stop` are neither read nor written.
+      auto iteration = [&]<bool kMasked, bool kGuarded>(int t) AVX2_INLINE {
         const int k = k0 + t;
-        const FourEntries f = four_entries(partner, length0, k, stop);
+        const FourEntries f = four_entries<kGuarded>(partner, length0, k, stop);
         const __m256d dx = _mm256_sub_pd(gather4(x, f.j), xi), dy = _mm256_sub_pd(gather4(y, f.j), yi);
         __m256d r2 = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy));
         if constexpr (!kPlanar) {
@@ -506,18 +522,17 @@ __attribute__((target("arch=x86-64-v3"), always_inline)) inline long break_and_d
           r2 = _mm256_add_pd(r2, _mm256_mul_pd(dz, dz));
         }
         const __m256d length = _mm256_sqrt_pd(r2);
-        if (k + 4 <= stop)
-          _mm256_storeu_pd(lengths + k, length);
-        else
-          _mm256_maskstore_pd(lengths + k, _mm256_castpd_si256(lanes_below(stop - k)), length);
+        store_four<kGuarded>(lengths, k, stop, length);
         const __m256d e = _mm256_sub_pd(length, f.x0);
         // break_and_dilate_body's e + both (|e| - e) is exactly |e| for both = 1 (e + 2|e| for e < 0), e for both = 0.
         const __m256d probe = in_compression ? _mm256_and_pd(e, magnitude) : e;
         const __m256d slack = _mm256_sub_pd(probe, _mm256_mul_pd(near_s0, f.x0));
-        const __m256d term = _mm256_mul_pd(_mm256_mul_pd(load_four(weight, k, stop), f.x0), e);
+        __m256d term = _mm256_mul_pd(_mm256_mul_pd(load_four<kGuarded>(weight, k, stop), f.x0), e);
         __m256d keep = all_lanes;
-        if (t + 4 > count) keep = lanes_below(count - t);
-        if (any) keep = _mm256_and_pd(keep, intact_lanes(broken, k, count - t));
+        if constexpr (kMasked) {
+          keep = lanes_below(count - t);
+          if (any) keep = _mm256_and_pd(keep, intact_lanes(broken, k, count - t));
+        }
         if (may_break) {
           const int near = _mm256_movemask_pd(_mm256_and_pd(_mm256_cmp_pd(slack, zero, _CMP_GT_OQ), keep));
           if (near) {  // eq 11 exactly for the entries near s_0, as break_and_dilate_body tests them
@@ -531,10 +546,19 @@ __attribute__((target("arch=x86-64-v3"), always_inline)) inline long break_and_d
                 kept[l] = 0;
                 ++marked;
               }
-            keep = _mm256_castsi256_pd(_mm256_load_si256(reinterpret_cast<const __m256i*>(kept)));
+            term = _mm256_and_pd(term, _mm256_castsi256_pd(_mm256_load_si256(reinterpret_cast<const __m256i*>(kept))));
           }
         }
-        acc = _mm256_add_pd(acc, _mm256_and_pd(term, keep));
+        if constexpr (kMasked) term = _mm256_and_pd(term, keep);
+        acc = _mm256_add_pd(acc, term);
+      };
+      // Most stages: no broken entry and all lanes inside the block, so only the row's last iteration is masked.
+      const int full = count & ~3;
+      if (!any && k0 + full + 4 <= stop) {
+        for (int t = 0; t < full; t += 4) iteration.template operator()<false, false>(t);
+        if (full < count) iteration.template operator()<true, false>(full);
+      } else {
+        for (int t = 0; t < count; t += 4) iteration.template operator()<true, true>(t);
       }
       sum += add_lanes(acc);
     }
@@ -579,9 +603,10 @@ __attribute__((target("arch=x86-64-v3"), always_inline)) inline void bond_force_
       const int count = end - k0 < kStage ? end - k0 : kStage;
       const bool any = any_broken(broken, k0, count);
       __m256d ax = zero, ay = zero, az = zero;
-      for (int t = 0; t < count; t += 4) {
+      // Entries [k0 + t, k0 + t + 4); kMasked, kGuarded as in break_and_dilate_body_avx2.
+      auto iteration = [&]<bool kMasked, bool kGuarded>(int t) AVX2_INLINE {
         const int k = k0 + t;
-        const FourEntries f = four_entries(partner, length0, k, stop);
+        const FourEntries f = four_entries<kGuarded>(partner, length0, k, stop);
         // Every partner column first, while the partner indices are in registers.
         const __m256d x_j = gather4(x, f.j), y_j = gather4(y, f.j);
         const __m256d z_j = kPlanar ? zero : gather4(z, f.j);
@@ -592,21 +617,30 @@ __attribute__((target("arch=x86-64-v3"), always_inline)) inline void bond_force_
                                                   _mm_loadu_pd(factors + 2 * f.j[3]), 1);
         const __m256d p_sum = _mm256_add_pd(p_i, _mm256_unpacklo_pd(pq02, pq13));
         const __m256d q_sum = _mm256_add_pd(q_i, _mm256_unpackhi_pd(pq02, pq13));
-        const __m256d length = load_four(lengths, k, stop);
+        const __m256d length = load_four<kGuarded>(lengths, k, stop);
         // bond_force_scale: eq 12's (J V_j (P x0 + Q e)) / |y|; 1 / |y| is bond_force_scale's for |y| > 0
         // (1 / (|y| + 0)), and a lane with |y| = 0 (no direction) is masked to s = 0 below, as its 1 / |y| = 0 does.
         const __m256d inv_length = _mm256_div_pd(one, length);
         const __m256d e = _mm256_sub_pd(length, f.x0);
         const __m256d bracket = _mm256_add_pd(_mm256_mul_pd(p_sum, f.x0), _mm256_mul_pd(q_sum, e));
-        __m256d s = _mm256_mul_pd(_mm256_mul_pd(load_four(weight, k, stop), bracket), inv_length);
+        __m256d s = _mm256_mul_pd(_mm256_mul_pd(load_four<kGuarded>(weight, k, stop), bracket), inv_length);
         // Spare and broken lanes add s 0 = 0 (dx is finite: a position), as zero_broken's zeros do.
         __m256d keep = _mm256_cmp_pd(length, zero, _CMP_GT_OQ);
-        if (t + 4 > count) keep = _mm256_and_pd(keep, lanes_below(count - t));
-        if (any) keep = _mm256_and_pd(keep, intact_lanes(broken, k, count - t));
+        if constexpr (kMasked) {
+          keep = _mm256_and_pd(keep, lanes_below(count - t));
+          if (any) keep = _mm256_and_pd(keep, intact_lanes(broken, k, count - t));
+        }
         s = _mm256_and_pd(s, keep);
         ax = _mm256_add_pd(ax, _mm256_mul_pd(s, _mm256_sub_pd(x_j, xi)));
         ay = _mm256_add_pd(ay, _mm256_mul_pd(s, _mm256_sub_pd(y_j, yi)));
         if constexpr (!kPlanar) az = _mm256_add_pd(az, _mm256_mul_pd(s, _mm256_sub_pd(z_j, zi)));
+      };
+      const int full = count & ~3;
+      if (!any && k0 + full + 4 <= stop) {
+        for (int t = 0; t < full; t += 4) iteration.template operator()<false, false>(t);
+        if (full < count) iteration.template operator()<true, false>(full);
+      } else {
+        for (int t = 0; t < count; t += 4) iteration.template operator()<true, true>(t);
       }
       Fx += add_lanes(ax);
       Fy += add_lanes(ay);
