@@ -306,6 +306,12 @@ TEST(PdBondPassesFast, OnePlaneMeansTheSameFiniteZ) {
   EXPECT_FALSE(check());
   s.nodes.z[3] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_FALSE(check()) << "a NaN z takes the 3D sweeps";
+  for (double& z : s.nodes.z) z = 2.5e-3;
+  s.nodes.z[0] = std::numeric_limits<double>::quiet_NaN();  // the node the others are compared with
+  EXPECT_FALSE(check());
+  for (double& z : s.nodes.z) z = 0.0;
+  s.nodes.z[5] = std::numeric_limits<double>::denorm_min();  // the smallest difference there is
+  EXPECT_FALSE(check());
   for (double& z : s.nodes.z) z = std::numeric_limits<double>::infinity();
   EXPECT_FALSE(check());
 }
