@@ -188,7 +188,13 @@ inline bool any_broken(const unsigned char* broken, int k0, int count) {
     std::memcpy(&word, broken + k0 + t, sizeof word);
     any |= word;
   }
-  for (; t < count; ++t) any |= broken[k0 + t];
+  if (t < count && count >= 8) {  // the last 8 bytes, overlapping the words before: no byte loop
+    unsigned long long word;
+    std::memcpy(&word, broken + k0 + count - 8, sizeof word);
+    any |= word;
+  } else {
+    for (; t < count; ++t) any |= broken[k0 + t];
+  }
   return any != 0;
 }
 
