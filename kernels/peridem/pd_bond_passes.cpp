@@ -233,6 +233,19 @@ struct RowInputs {
 
 DEBRIS_DECLARE_TARGET
 
+// The end of row i of a dilatation sweep, from its sum over the intact bonds: theta_i of eq 34 (do_theta) and
+// the node factors P_i, Q_i (do_factors), which the force sweep reads. A row without bonds (walls) has none.
+DEBRIS_ALWAYS_INLINE void finish_dilatation_row(const RowInputs& in, int i, const PdLpsConstants* c, double sum) {
+  const double m_i = in.m[i];
+  const double theta_i = c ? lps_dilatation(*c, sum, m_i) : 0.0;
+  if (in.do_theta) in.theta[i] = theta_i;
+  if (in.do_factors) {
+    const LpsNodeFactors f = c ? lps_node_factors(*c, theta_i, m_i) : LpsNodeFactors{};
+    in.factors[2 * i] = f.p;
+    in.factors[2 * i + 1] = f.q;
+  }
+}
+
 // Rows [r0, r1): eq 11 (do_break: mark the intact bonds whose stretch reached s_0; returns the entries
 // marked), then theta_i of eq 34 over the bonds intact after that (do_theta), and the node factors of
 // lps_node_factors (do_factors). One bond length per entry serves both. kPlanar: every node has the same z,
@@ -245,18 +258,13 @@ DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int
   const double* __restrict weight = in.weight;
   unsigned char* __restrict broken = in.broken;
   const double* __restrict x = in.x, * __restrict y = in.y, * __restrict z = in.z;
-  const double* __restrict m = in.m;
-  double* __restrict theta = in.theta;
-  double* __restrict factors = in.factors;
-  const int do_theta = in.do_theta, do_factors = in.do_factors;
   const int may_break = in.do_break;
   long marked = 0;
   double term[kStage], slack[kStage], extension[kStage];
   for (int i = r0; i < r1; ++i) {
     const int begin = offset[i], end = offset[i + 1];
     if (begin == end) {
-      if (do_theta) theta[i] = 0.0;
-      if (do_factors) factors[2 * i] = factors[2 * i + 1] = 0.0;
+      finish_dilatation_row(in, i, nullptr, 0.0);
       continue;
     }
     const PdLpsConstants c = in.lps[in.material[in.grain[i]]];
@@ -309,13 +317,7 @@ DEBRIS_ALWAYS_INLINE long break_and_dilate_body(const RowInputs& in, int r0, int
       }
       sum += sum4(term, count);
     }
-    const double theta_i = lps_dilatation(c, sum, m[i]);
-    if (do_theta) theta[i] = theta_i;
-    if (do_factors) {
-      const LpsNodeFactors f = lps_node_factors(c, theta_i, m[i]);
-      factors[2 * i] = f.p;
-      factors[2 * i + 1] = f.q;
-    }
+    finish_dilatation_row(in, i, &c, sum);
   }
   return marked;
 }
@@ -401,21 +403,21 @@ DEBRIS_PD_ROW_CLONES void bond_force_rows(const RowInputs& in, int r0, int r1) {
 // bodies above write, in their order (this file is built without contraction into FMA, so the compiler keeps
 // theirs as written too): the same bits as the clones, which the separate passes run.
 
+// The helpers and the loop bodies (lambdas) below, inlined into the kernels and built for AVX2 like them.
+#define DEBRIS_AVX2_INLINE __attribute__((target("arch=x86-64-v3"), always_inline))
+
 // Lane l of an iteration over entries [k, k + 4) belongs to the row while l < count - t (lane_index < rest).
-__attribute__((target("avx2"), always_inline)) inline __m256d lanes_below(int rest) {
+DEBRIS_AVX2_INLINE inline __m256d lanes_below(int rest) {
   const __m256i lane_index = _mm256_setr_epi64x(0, 1, 2, 3);
   return _mm256_castsi256_pd(_mm256_cmpgt_epi64(_mm256_set1_epi64x(rest), lane_index));
 }
 
 // Four partners' values of one column: four broadcast loads and three blends (no shuffle port).
-__attribute__((target("avx2"), always_inline)) inline __m256d gather4(const double* a, const long* j) {
+DEBRIS_AVX2_INLINE inline __m256d gather4(const double* a, const long* j) {
   const __m256d lo = _mm256_blend_pd(_mm256_broadcast_sd(a + j[0]), _mm256_broadcast_sd(a + j[1]), 0b1010);
   const __m256d hi = _mm256_blend_pd(_mm256_broadcast_sd(a + j[2]), _mm256_broadcast_sd(a + j[3]), 0b1010);
   return _mm256_blend_pd(lo, hi, 0b1100);
 }
-
-// The sweeps' loop bodies are lambdas, inlined and built for AVX2 like the kernels around them.
-#define AVX2_INLINE __attribute__((target("arch=x86-64-v3"), always_inline))
 
 // Entries [k, k + 4) of one iteration: partners and reference lengths. kGuarded: lanes at or past `stop` (the
 // end of the list, or of the rows this thread writes) take entry k's values instead: valid, and never summed
@@ -425,7 +427,7 @@ struct FourEntries {
   __m256d x0;
 };
 template <bool kGuarded>
-AVX2_INLINE inline FourEntries four_entries(const int* partner, const double* length0, int k, int stop) {
+DEBRIS_AVX2_INLINE inline FourEntries four_entries(const int* partner, const double* length0, int k, int stop) {
   FourEntries f;
   if (!kGuarded || k + 4 <= stop) {
     for (int l = 0; l < 4; ++l) f.j[l] = partner[k + l];
@@ -445,12 +447,12 @@ AVX2_INLINE inline FourEntries four_entries(const int* partner, const double* le
 // Entries [k, k + 4) of a column of doubles. kGuarded: lanes at or past `stop` read as 0 (nothing is read
 // there), or are not written.
 template <bool kGuarded>
-AVX2_INLINE inline __m256d load_four(const double* a, int k, int stop) {
+DEBRIS_AVX2_INLINE inline __m256d load_four(const double* a, int k, int stop) {
   if (!kGuarded || k + 4 <= stop) return _mm256_loadu_pd(a + k);
   return _mm256_maskload_pd(a + k, _mm256_castpd_si256(lanes_below(stop - k)));
 }
 template <bool kGuarded>
-AVX2_INLINE inline void store_four(double* a, int k, int stop, __m256d v) {
+DEBRIS_AVX2_INLINE inline void store_four(double* a, int k, int stop, __m256d v) {
   if (!kGuarded || k + 4 <= stop)
     _mm256_storeu_pd(a + k, v);
   else
@@ -458,7 +460,7 @@ AVX2_INLINE inline void store_four(double* a, int k, int stop, __m256d v) {
 }
 
 // All ones in the lanes of entries [k, k + min(rest, 4)) that are not broken (rest > 0).
-__attribute__((target("avx2"), always_inline)) inline __m256d intact_lanes(const unsigned char* broken, int k,
+DEBRIS_AVX2_INLINE inline __m256d intact_lanes(const unsigned char* broken, int k,
                                                                            int rest) {
   int word = 0;
   if (rest >= 4)
@@ -470,10 +472,24 @@ __attribute__((target("avx2"), always_inline)) inline __m256d intact_lanes(const
 }
 
 // (v0 + v1) + (v2 + v3): sum4's last step.
-__attribute__((target("avx2"), always_inline)) inline double add_lanes(__m256d v) {
+DEBRIS_AVX2_INLINE inline double add_lanes(__m256d v) {
   alignas(32) double l[4];
   _mm256_store_pd(l, v);
   return (l[0] + l[1]) + (l[2] + l[3]);
+}
+
+// A stage's iterations over its `count` entries from k0, iteration.template operator()<kMasked, kGuarded>(t)
+// for t = 0, 4, ...: most stages have no broken entry and all their lanes before `stop`, so only their last
+// iteration is masked and none guarded; the others take the general iteration throughout.
+template <class Iteration>
+DEBRIS_AVX2_INLINE inline void run_stage(Iteration& iteration, int k0, int count, bool any, int stop) {
+  const int full = count & ~3;
+  if (!any && k0 + full + 4 <= stop) {
+    for (int t = 0; t < full; t += 4) iteration.template operator()<false, false>(t);
+    if (full < count) iteration.template operator()<true, false>(full);
+  } else {
+    for (int t = 0; t < count; t += 4) iteration.template operator()<true, true>(t);
+  }
 }
 
 // break_and_dilate_body with in.lengths: |y| of every entry stored there. A row's last iteration stores the
@@ -488,11 +504,7 @@ __attribute__((target("arch=x86-64-v3"), always_inline)) inline long break_and_d
   const double* __restrict weight = in.weight;
   unsigned char* __restrict broken = in.broken;
   const double* __restrict x = in.x, * __restrict y = in.y, * __restrict z = in.z;
-  const double* __restrict m = in.m;
-  double* __restrict theta = in.theta;
-  double* __restrict factors = in.factors;
   double* __restrict lengths = in.lengths;
-  const int do_theta = in.do_theta, do_factors = in.do_factors;
   const int may_break = in.do_break;
   const int stop = offset[r1];
   const __m256d zero = _mm256_setzero_pd();
@@ -502,8 +514,7 @@ __attribute__((target("arch=x86-64-v3"), always_inline)) inline long break_and_d
   for (int i = r0; i < r1; ++i) {
     const int begin = offset[i], end = offset[i + 1];
     if (begin == end) {
-      if (do_theta) theta[i] = 0.0;
-      if (do_factors) factors[2 * i] = factors[2 * i + 1] = 0.0;
+      finish_dilatation_row(in, i, nullptr, 0.0);
       continue;
     }
     const PdLpsConstants c = in.lps[in.material[in.grain[i]]];
@@ -518,7 +529,7 @@ __attribute__((target("arch=x86-64-v3"), always_inline)) inline long break_and_d
       __m256d acc = zero;
       // Entries [k0 + t, k0 + t + 4). kMasked: lanes past the row's count, or broken ones, add nothing;
       // kGuarded: lanes at or past `stop` are neither read nor written.
-      auto iteration = [&]<bool kMasked, bool kGuarded>(int t) AVX2_INLINE {
+      auto iteration = [&]<bool kMasked, bool kGuarded>(int t) DEBRIS_AVX2_INLINE {
         const int k = k0 + t;
         const FourEntries f = four_entries<kGuarded>(partner, length0, k, stop);
         const __m256d dx = _mm256_sub_pd(gather4(x, f.j), xi), dy = _mm256_sub_pd(gather4(y, f.j), yi);
@@ -560,23 +571,10 @@ __attribute__((target("arch=x86-64-v3"), always_inline)) inline long break_and_d
         if constexpr (kMasked) term = _mm256_and_pd(term, keep);
         acc = _mm256_add_pd(acc, term);
       };
-      // Most stages: no broken entry and all lanes inside the block, so only the row's last iteration is masked.
-      const int full = count & ~3;
-      if (!any && k0 + full + 4 <= stop) {
-        for (int t = 0; t < full; t += 4) iteration.template operator()<false, false>(t);
-        if (full < count) iteration.template operator()<true, false>(full);
-      } else {
-        for (int t = 0; t < count; t += 4) iteration.template operator()<true, true>(t);
-      }
+      run_stage(iteration, k0, count, any, stop);
       sum += add_lanes(acc);
     }
-    const double theta_i = lps_dilatation(c, sum, m[i]);
-    if (do_theta) theta[i] = theta_i;
-    if (do_factors) {
-      const LpsNodeFactors fac = lps_node_factors(c, theta_i, m[i]);
-      factors[2 * i] = fac.p;
-      factors[2 * i + 1] = fac.q;
-    }
+    finish_dilatation_row(in, i, &c, sum);
   }
   return marked;
 }
@@ -612,7 +610,7 @@ __attribute__((target("arch=x86-64-v3"), always_inline)) inline void bond_force_
       const bool any = any_broken(broken, k0, count);
       __m256d ax = zero, ay = zero, az = zero;
       // Entries [k0 + t, k0 + t + 4); kMasked, kGuarded as in break_and_dilate_body_avx2.
-      auto iteration = [&]<bool kMasked, bool kGuarded>(int t) AVX2_INLINE {
+      auto iteration = [&]<bool kMasked, bool kGuarded>(int t) DEBRIS_AVX2_INLINE {
         const int k = k0 + t;
         const FourEntries f = four_entries<kGuarded>(partner, length0, k, stop);
         // Every partner column first, while the partner indices are in registers.
@@ -643,13 +641,7 @@ __attribute__((target("arch=x86-64-v3"), always_inline)) inline void bond_force_
         ay = _mm256_add_pd(ay, _mm256_mul_pd(s, _mm256_sub_pd(y_j, yi)));
         if constexpr (!kPlanar) az = _mm256_add_pd(az, _mm256_mul_pd(s, _mm256_sub_pd(z_j, zi)));
       };
-      const int full = count & ~3;
-      if (!any && k0 + full + 4 <= stop) {
-        for (int t = 0; t < full; t += 4) iteration.template operator()<false, false>(t);
-        if (full < count) iteration.template operator()<true, false>(full);
-      } else {
-        for (int t = 0; t < count; t += 4) iteration.template operator()<true, true>(t);
-      }
+      run_stage(iteration, k0, count, any, stop);
       Fx += add_lanes(ax);
       Fy += add_lanes(ay);
       if constexpr (!kPlanar) Fz += add_lanes(az);
