@@ -259,6 +259,31 @@ TEST_F(PeridemCli, TimeStepAboveTheStableOne) {
                   {"run.time_step", "1e-06", "stable step", "allow_unstable_time_step"});
 }
 
+// Eq 33 bonds a node to its grain's nodes within the horizon: a disc of R = 1 mm meshed at 5 mm (or 0.8 mm)
+// with a 0.6 mm horizon is a cloud of unbonded nodes. Refused, naming the shape's mesh size, the horizon and
+// their ratio (0.6 / 5 = 0.12, 0.6 / 0.8 = 0.75).
+TEST_F(PeridemCli, GrainMeshedAsCoarseAsItsHorizonHasUnbondedNodes) {
+  for (const auto& [size, ratio] : {std::pair{"5 mm", "horizon / h = 0.12"}, std::pair{"0.8 mm", "horizon / h = 0.75"}})
+    expect_rejected(replace(small_input(out.string()), "    radius: 1 mm\n    mesh_size: 0.3 mm",
+                            std::string("    radius: 1 mm\n    mesh_size: ") + size),
+                    {"'shapes.disc.mesh_size'", "without a bond", "materials.M1.horizon = 0.0006 m", ratio});
+}
+
+// Horizon / mesh size = 0.6 / 0.4 = 1.5: every node has a partner, so the run goes on, with a warning that
+// names the ratio. The good input (0.6 / 0.3 = 2) has none.
+TEST_F(PeridemCli, HorizonBelowTwiceTheMeshSizeWarns) {
+  EXPECT_FALSE(debris::test::contains(good_output, "warning")) << good_output;
+  const Result r = run_peridem(
+      "-i " + write(dir, "coarse.yaml",
+                    replace(replace(small_input((dir / "coarse").string()), "centre: [0, 1.18 mm, 0]", "centre: [0, 1.3 mm, 0]"),
+                            "    radius: 1 mm\n    mesh_size: 0.3 mm",
+                            "    radius: 1 mm\n    mesh_size: 0.4 mm"))
+                  .string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(debris::test::contains(r.output, "warning: shapes.disc.mesh_size = 0.0004 m")) << r.output;
+  EXPECT_TRUE(debris::test::contains(r.output, "horizon / h = 1.5 is below 2")) << r.output;
+}
+
 TEST_F(PeridemCli, UnknownShapeAndMaterialNames) {
   expect_rejected(
       replace(small_input(out.string()), "    shape: floor\n    material: M1", "    shape: flor\n    material: M1"),

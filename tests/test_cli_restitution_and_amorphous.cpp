@@ -98,6 +98,8 @@ TEST(RestitutionCli, BadInputsEndWithExitTwoNamingTheKey) {
       {"damping_onset_factor: 1.01", "damping_onset_factor: 1.01\ndamping_centre: middle", {"damping_centre", "middle"}},
       {"mesh_size: 0.2 mm", "mesh_size: 0.2 mm\ncircle_meshes:\n  - {radius: 1 mm, file: none.msh}",
        {"circle_meshes[0].file", "no such file"}},
+      // Gmsh at 5 mm puts 9 nodes on a 1 mm circle, none within the 0.6 mm horizon of another (eq 33).
+      {"mesh_size: 0.2 mm", "mesh_size: 5 mm", {"'horizon' = 0.0006 m", "without a bond", "grain 'grain0'"}},
   };
   for (const Bad& b : bad) {
     const Result r = run_restitution(dir, replace(restitution_input(), b.from, b.to));

@@ -27,16 +27,22 @@ int run(const std::string& input, const std::string& output, int threads) {
   std::cout << exec::describe(request) << "\n";
   std::filesystem::create_directories(output);
   const std::string csv_path = (std::filesystem::path(output) / "restitution.csv").string();
-  std::ofstream csv(csv_path);
-  if (!csv) throw output_error(csv_path, "cannot create it");
-  csv << "case,bottom_radius_m,top_radius_m,materials,restitution_parameter,time_step_s,initial_speed_m_s,"
-         "paper_C_R,debris_C_R,difference,rebound_height_m,contact_time_s,steps,nodes,broken_bonds,"
-         "bottom_max_damage,top_max_damage,wall_seconds,mesh_h_m,horizon_m\n";
+  // Opened with the first result: a case whose system is bad input (a mesh too coarse for its horizon, found
+  // when the case is built) leaves an earlier run's table as it was.
+  std::ofstream csv;
+  auto open_csv = [&] {
+    csv.open(csv_path);
+    if (!csv) throw output_error(csv_path, "cannot create it");
+    csv << "case,bottom_radius_m,top_radius_m,materials,restitution_parameter,time_step_s,initial_speed_m_s,"
+           "paper_C_R,debris_C_R,difference,rebound_height_m,contact_time_s,steps,nodes,broken_bonds,"
+           "bottom_max_damage,top_max_damage,wall_seconds,mesh_h_m,horizon_m\n";
+  };
   std::printf("%-16s %-9s %-7s %5s %8s %7s %9s %9s %8s %8s %8s %8s\n", "case", "(R1,R2)mm", "mat", "eps", "dt_us",
               "v0", "paper", "debris", "diff", "Z_bot", "Z_top", "wall_s");
   for (const RestitutionCase& k : cases) {
     const TwoParticleDropResult r = run_two_particle_drop(k.spec);
     const double diff = k.paper >= 0 ? r.restitution_coefficient - k.paper : NAN;
+    if (!csv.is_open()) open_csv();
     csv << '"' << k.name << '"' << ',' << k.spec.bottom_radius << ',' << k.spec.top_radius << ',' << k.materials << ','
         << k.spec.restitution << ',' << k.spec.time_step << ',' << k.spec.initial_speed << ',';
     if (k.paper >= 0) csv << k.paper;

@@ -9,9 +9,11 @@
 #include <map>
 #include <optional>
 
+#include "core/bond_list.hpp"
 #include "core/error.hpp"
 #include "scenarios/common/peridem/grain_placement.hpp"
 #include "scenarios/common/peridem/gmsh_api.hpp"
+#include "scenarios/common/peridem/peridem_simulation.hpp"
 #include "core/io/grain_csv.hpp"
 #include "core/io/input.hpp"
 #include "core/memory_budget.hpp"
@@ -130,6 +132,43 @@ ShapeInput read_shape(const InputNode& n, const std::string& name, const std::st
     throw InputError(std::string(e.what()) + " (in '" + s.path + "')");
   }
   return s;
+}
+
+// Eq 33 bonds a node to the nodes of its grain closer than the horizon: a grain meshed as coarse as its
+// horizon is a cloud of unbonded nodes that never deforms nor breaks. A shape is checked with each material
+// that uses it, at the largest scale a grain gives it (the widest node spacing against the fixed horizon), by
+// building the bonds of that one grain. Every node bonded but horizon / mesh size below 2: a warning (the
+// paper's runs use 4.2-5.2).
+void check_grain_bonds(const ShapeInput& shape, const ReferenceGrain& reference, double scale,
+                       const PdMaterial& material, const std::string& material_key,
+                       std::vector<std::string>& warnings) {
+  PdNodes nodes;
+  PdGrains grains;
+  GrainRecord at_scale;
+  at_scale.radius = scale * reference.radius;
+  place_grain(reference, at_scale, nodes, grains);
+  const BondList bonds = BondList::build(nodes, grains, {material.horizon});
+  std::size_t unbonded = 0;
+  for (std::size_t i = 0; i < bonds.nodes(); ++i) unbonded += bonds.offset[i + 1] == bonds.offset[i] ? 1 : 0;
+  // A Gmsh shape's spacing is its mesh_size (times the grain's scale); a mesh file's is measured (eq 35).
+  const double h = shape.from_file ? pd_mesh_size(nodes, grains) : scale * shape.spec.mesh_size;
+  const double ratio = material.horizon / h;
+  const std::string key = shape.from_file ? shape.path + ".file" : shape.path + ".mesh_size";
+  const std::string value = shape.from_file ? shape.file : format_value(shape.spec.mesh_size) + " m";
+  std::string spacing = "mesh size h = " + format_value(h) + " m";
+  if (scale != 1) spacing += " (the largest grain of this shape, scaled by " + format_value(scale) + ")";
+  const std::string against = material_key + " = " + format_value(material.horizon) + " m against the " + spacing +
+                              ": horizon / h = " + format_value(ratio);
+  if (unbonded > 0)
+    throw input_error(key, value,
+                      "leaves " + std::to_string(unbonded) + " of the " + std::to_string(bonds.nodes()) +
+                          " nodes of a grain without a bond (eq 33: no node of the grain within the horizon), "
+                          "with " + against + "; mesh the shape finer or widen the horizon: horizon / h of 2 or "
+                          "more (the paper's runs use 4.2-5.2)");
+  if (ratio < 2)
+    warnings.push_back(key + " = " + value + ": " + against +
+                       " is below 2: few bonds per node, a grain that is barely a continuum (the paper's runs use "
+                       "4.2-5.2)");
 }
 
 // ---- contact --------------------------------------------------------------------------------------------
@@ -573,6 +612,27 @@ PeridemRunConfig read_peridem_input(const InputNode& root, const std::string& ba
       throw input_error("grains", shown, "more nodes than debris can index (" +
                                              std::to_string(std::numeric_limits<int>::max()) + ")");
     check_memory("grains", shown, nodes, kPdBytesPerNode, "node");
+  }
+  {
+    // Every particle grain bonded (check_grain_bonds): each shape and material at its largest scale.
+    std::map<std::pair<std::string, int>, double> largest_scale;
+    auto note_scale = [&](const std::string& shape, int material, double scale) {
+      double& s = largest_scale.try_emplace({shape, material}, scale).first->second;
+      s = std::max(s, scale);
+    };
+    for (const GrainRecord& r : records)
+      if (r.zone >= 0 && static_cast<std::size_t>(r.zone) < refs.size()) {
+        const ZoneInput& z = zones[static_cast<std::size_t>(r.zone)];
+        note_scale(z.shape, z.material, r.radius / refs[static_cast<std::size_t>(r.zone)].radius);
+      }
+    for (std::size_t k = 0; k < listed.size(); ++k)
+      note_scale(listed[k].shape, listed[k].material, listed[k].record.radius / *shapes.at(listed[k].shape).reference);
+    for (const auto& [which, scale] : largest_scale) {
+      const auto& [shape, material] = which;
+      const std::size_t m = static_cast<std::size_t>(material);
+      check_grain_bonds(shapes.at(shape), meshes.reference(shape, material, "shapes." + shape), scale,
+                        cfg.materials[m], "materials." + cfg.material_names[m] + ".horizon", cfg.warnings);
+    }
   }
   if (!zones.empty()) {
     place_grains(refs, records, cfg.nodes, cfg.grains);

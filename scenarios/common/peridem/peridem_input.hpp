@@ -111,6 +111,8 @@ struct PeridemRunConfig {
   PeridemOutputSettings output;
   /// Dimensional values given as plain numbers beside others with units (InputNode::plain_beside_units).
   std::vector<std::string> plain_quantities;
+  /// Input that runs but deserves a word (a horizon below twice a shape's mesh size), printed at the start.
+  std::vector<std::string> warnings;
 };
 
 struct PeridemInputOptions {

@@ -272,6 +272,7 @@ RunPlan prepare_peridem_run(const RunOptions& opt) {
   const exec::ThreadRequest threads = exec::request_threads(opt.threads, cfg.threads);
   std::cout << exec::startup_report() << "\n" << exec::describe(threads) << "\n";
   print_input_notes(std::cout, ignored, cfg.plain_quantities);
+  for (const std::string& w : cfg.warnings) std::cout << "warning: " << w << "\n";
 
   // The system is validated here (time step against the stable one, ...) before any output is opened.
   std::optional<PeridemSimulation> built;

@@ -107,6 +107,21 @@ PeridemSimulation::PeridemSimulation(PdNodes nodes, PdGrains grains, std::vector
   for (std::size_t g = 0; g < grains_.size(); ++g)
     horizon[g] = materials_[static_cast<std::size_t>(grains_.material[g])].horizon;
   bonds_ = BondList::build(nodes_, grains_, horizon);
+  // A particle grain's node with no bond never feels its grain (eq 33). The input reader names the shape's
+  // mesh size when that is the cause; this holds for systems built any other way.
+  for (std::size_t g = 0; g < grains_.size(); ++g) {
+    if (!is_particle(grains_, static_cast<int>(g))) continue;
+    for (int i = grains_.node_begin[g]; i < grains_.node_end[g]; ++i)
+      if (bonds_.offset[static_cast<std::size_t>(i) + 1] == bonds_.offset[static_cast<std::size_t>(i)]) {
+        const std::string grain = g < names.size() ? names[g] : "grain" + std::to_string(g);
+        throw input_error("horizon", format_value(horizon[g]) + " m",
+                          "leaves node " + std::to_string(nodes_.id[i]) + " of grain '" + grain + "' (material " +
+                              std::to_string(grains_.material[g]) + ") without a bond (eq 33: no node of its grain "
+                              "within the horizon; the system's mesh size h = " + format_value(mesh_size_) +
+                              " m, horizon / h = " + format_value(horizon[g] / mesh_size_) +
+                              "); mesh the grain finer or widen the horizon: horizon / h of 2 or more");
+      }
+  }
   // Everything the kernels read goes to the device once (offload builds): nodes and grains as placed (the
   // host copies count as edited since construction), bonds, the LPS table (the contact table sent itself).
   state_to_device();
