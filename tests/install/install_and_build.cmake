@@ -1,6 +1,7 @@
 # ctest InstallPackage.FindPackageBuildsAndRunsAnApp: cmake -DBUILD=<debris build> -DSOURCE=<tests/install>
 # -DWORK=<scratch> -P install_and_build.cmake. Installs debris from BUILD into WORK/prefix, configures and
-# builds the consumer project in SOURCE against it, and runs it.
+# builds the consumer project in SOURCE against it (C++ only, no standard set), and runs both its programs
+# (one on the DEM model, one on PeriDEM).
 file(REMOVE_RECURSE ${WORK})
 execute_process(COMMAND ${CMAKE_COMMAND} --install ${BUILD} --prefix ${WORK}/prefix RESULT_VARIABLE rc
                 OUTPUT_QUIET)
@@ -23,8 +24,10 @@ execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK}/app RESULT_VARIABLE rc 
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "building the consumer failed:\n${out}\n${err}")
 endif()
-execute_process(COMMAND ${WORK}/app/pull_apart RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-message(STATUS "${out}")
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "the consumer failed (${rc}):\n${out}\n${err}")
-endif()
+foreach(app pull_apart drop)
+  execute_process(COMMAND ${WORK}/app/${app} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  message(STATUS "${app}: ${out}")
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "the consumer ${app} failed (${rc}):\n${out}\n${err}")
+  endif()
+endforeach()
