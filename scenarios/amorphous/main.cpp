@@ -140,7 +140,7 @@ int run(const Options& opt) {
       std::cout << "\n=== sample " << tag << ": d0 = " << d0 << " d_c = " << spec.d0_absolute() << ", d in ["
                 << spec.d_s_absolute() << ", " << spec.d_l_absolute() << "], box " << spec.box_length().x / spec.d0_absolute()
                 << " x " << spec.box_length().y / spec.d0_absolute() << " x "
-                << spec.box_length().z / spec.d0_absolute() << " d0, s = " << s_value << ", seed " << spec.seed << "\n";
+                << spec.box_length().z / spec.d0_absolute() << " d0, s = " << s_value << ", seed " << spec.seed << std::endl;
 
       ThermoCsv relax((dir / ("relax_" + tag + ".csv")).string(), kRelaxColumns);
       const Vec3 len0 = spec.box_length();

@@ -115,7 +115,7 @@ int run(const Options& opt) {
             << ", tension " << spec.target.tensile_strength << ", shear " << spec.target.shear_strength << " (d0 "
             << spec.d0 << ", s " << spec.target.scaling << ", " << spec.sample.length << " x " << spec.sample.length
             << " x " << spec.sample.width << " d0, seed " << spec.sample.seed << ")\n"
-            << "the tension moves with the input " << tension_input_key(tension_input(spec)) << "\n";
+            << "the tension moves with the input " << tension_input_key(tension_input(spec)) << std::endl;
   const CalibrationResult r = calibrate(spec, [&](const CalibrationStep& s) {
     csv.write_row(row(++index, s.runs, s.collapsed, s.inputs, s.measured, spec.target));
     std::cout << "step " << index << " (" << s.runs << " patch runs): ";
@@ -126,6 +126,7 @@ int run(const Options& opt) {
                 << ": the sample collapsed\n";
     else
       print_measure("measures", s.measured, spec.target);
+    std::cout.flush();  // a step is a minute of patch runs: show it as it comes, in a pipe or a log too
   });
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const CohesiveMaterial& in = r.inputs;

@@ -39,6 +39,7 @@ int run(const std::string& input, const std::string& output, int threads) {
   };
   std::printf("%-16s %-9s %-7s %5s %8s %7s %9s %9s %8s %8s %8s %8s\n", "case", "(R1,R2)mm", "mat", "eps", "dt_us",
               "v0", "paper", "debris", "diff", "Z_bot", "Z_top", "wall_s");
+  std::fflush(stdout);  // a case takes seconds to minutes: the header shows in a pipe or a log at once
   for (const RestitutionCase& k : cases) {
     const TwoParticleDropResult r = run_two_particle_drop(k.spec);
     const double diff = k.paper >= 0 ? r.restitution_coefficient - k.paper : NAN;
