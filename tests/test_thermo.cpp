@@ -60,5 +60,51 @@ TEST(ThermoCsv, BadColumnsAndPaths) {
   EXPECT_THROW(ThermoCsv(::testing::TempDir() + "/no_such_dir_for_debris/t.csv", {"a"}), OutputError);
 }
 
+std::string read_all(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write_all(const std::string& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
+}
+
+// A resumed table keeps only intact rows: a row of too few cells (a torn row an earlier restart kept), a
+// cell that is not a number, a last row without its line break; known rows fill what is missing, and rows
+// due after the last intact one that nothing rebuilds are named as lost.
+TEST(ThermoCsv, ResumingKeepsOnlyIntactRows) {
+  const std::string path = ::testing::TempDir() + "/debris_thermo_resume.csv";
+  write_all(path, "step,a,b\n0,1,2\n10,1.5\n20,x,3\n30,4,5\n40,6,7\n50,8,9\n60,1,2.5");
+  {
+    ThermoResume r{60, 10, {}};
+    r.known[10] = {10, 0.25, 0.5};
+    r.known[60] = {60, 1, 2.5};
+    ThermoCsv csv(path, {"step", "a", "b"}, r);
+    EXPECT_EQ(csv.repair_note(),
+              "debris_thermo_resume.csv was cut short or damaged before this restart: 3 rows cut short or "
+              "unreadable are dropped; the rows of steps 10 and 60 are rewritten from the checkpoint; the row of "
+              "step 20 is lost (neither intact in the file nor in the checkpoint).");
+    csv.write_row({70, 3, 4});
+  }
+  EXPECT_EQ(read_all(path), "step,a,b\n0,1,2\n10,0.25,0.5\n30,4,5\n40,6,7\n50,8,9\n60,1,2.5\n70,3,4\n");
+
+  // Cut back at a row's end: the rows due after it are lost, unless known.
+  write_all(path, "step,a,b\n0,1,2\n10,3,4\n");
+  EXPECT_EQ(ThermoCsv(path, {"step", "a", "b"}, ThermoResume{50, 10, {{50, {50, 1, 1}}}}).repair_note(),
+            "debris_thermo_resume.csv was cut short or damaged before this restart: the row of step 50 is "
+            "rewritten from the checkpoint; the rows of steps 20, 30 and 40 are lost (neither intact in the file "
+            "nor in the checkpoint).");
+  // Empty or cut inside the header: as if missing; a header that differs is refused.
+  for (const char* text : {"", "step,"}) {
+    write_all(path, text);
+    EXPECT_NO_THROW(ThermoCsv(path, {"step", "a", "b"}, ThermoResume{50, 10, {}}));
+    EXPECT_EQ(read_all(path), "step,a,b\n") << text;
+  }
+  write_all(path, "step,a,c\n0,1,2\n");
+  EXPECT_THROW(ThermoCsv(path, {"step", "a", "b"}, ThermoResume{50, 10, {}}), InputError);
+}
+
 }  // namespace
 }  // namespace debris
