@@ -1,13 +1,16 @@
 // Reliability of the executables (issue 14): checkpoints that detect silent corruption, exit statuses that
 // mean one thing each, a full disk or a blocked output directory, systems too large for the machine, thermo
-// tables that do not depend on the thread count, and a split run whose thermo table equals the whole run's.
+// tables that do not depend on the thread count, a split run whose thermo table equals the whole run's, and
+// restarts over tables a crash cut short.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -552,6 +555,139 @@ TEST(ThermoTable, APeridemSplitRunHasTheWholeRunsTable) {
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_EQ(slurp(d / "pd_whole" / "thermo.csv"), slurp(d / "pd_split" / "thermo.csv"));
   }
+}
+
+// ---- restarts over tables a crash damaged ----
+
+/// The step a table's row starts with (-1 for the header).
+long row_step(const std::string& line) {
+  return !line.empty() && std::isdigit(static_cast<unsigned char>(line[0])) ? std::stol(line) : -1;
+}
+
+/// A table's lines, each with its line break.
+std::vector<std::string> table_lines(const std::string& text) {
+  std::vector<std::string> lines;
+  for (std::size_t at = 0; at < text.size();) {
+    const std::size_t end = std::min(text.find('\n', at), text.size() - 1);
+    lines.push_back(text.substr(at, end + 1 - at));
+    at = end + 1;
+  }
+  return lines;
+}
+
+/// The header and the rows of `text` whose step passes `keep`.
+template <class Keep>
+std::string rows_where(const std::string& text, Keep keep) {
+  std::string out;
+  for (const std::string& line : table_lines(text))
+    if (row_step(line) < 0 || keep(row_step(line))) out += line;
+  return out;
+}
+
+/// `text` cut inside its last row, as a crash before the file was synced leaves it: the row loses the
+/// second half of its characters and its line break.
+std::string cut_inside_last_row(const std::string& text) {
+  const std::size_t start = text.rfind('\n', text.size() - 2) + 1;
+  return text.substr(0, start + (text.size() - start) / 2);
+}
+
+/// debris_dem's default input (the sheared junction with its wear analysis), `steps` long, with a thermo row
+/// and a wear sample every 250 steps and a checkpoint every 1,000.
+std::string dem_wear_input(long steps) {
+  std::string yaml = slurp(fs::path(DEBRIS_SOURCE_DIR) / "scenarios" / "dem" / "default.yaml");
+  yaml = replace(yaml, "lammps_data: ../wear/data/",
+                 "lammps_data: " + std::string(DEBRIS_SOURCE_DIR) + "/scenarios/wear/data/");
+  yaml = replace(yaml, "pictures: true", "pictures: false");
+  yaml = replace(yaml, "  every: 625 ", "  every: 250 ");
+  yaml = replace(yaml, "thermo_every: 625", "thermo_every: 250");
+  yaml = replace(yaml, "checkpoint_every: 12500", "checkpoint_every: 1000");
+  return replace(yaml, "run:\n", "run:\n  steps: " + std::to_string(steps) + "\n");
+}
+
+// A crash before the tables were synced leaves them cut: inside the row of the checkpoint's step, or back
+// at an earlier row's end, or empty. A restart from the checkpoint at step 2,000 rewrites what the
+// checkpoint holds (the thermo row of its own step, every wear sample), names the rows it cannot rebuild,
+// and never keeps a row cut short; the rows it writes are those of the run that was never interrupted.
+TEST(ThermoTable, ARestartOverDamagedDemTablesRewritesTheirRows) {
+  const fs::path d = scratch("dem_damaged_tables");
+  const fs::path whole = write(d, "whole.yaml", dem_wear_input(3000));
+  ASSERT_EQ(run_dem("-i " + whole.string() + " -o " + (d / "whole").string()).exit_code, 0);
+  ASSERT_EQ(run_dem("-i " + write(d, "chunk.yaml", dem_wear_input(2000)).string() + " -o " + (d / "chunk").string())
+                .exit_code,
+            0);
+  const std::string thermo = slurp(d / "whole" / "thermo.csv"), wear = slurp(d / "whole" / "wear.csv");
+  ASSERT_EQ(row_step(table_lines(slurp(d / "chunk" / "thermo.csv")).back()), 2000);
+  ASSERT_EQ(row_step(table_lines(slurp(d / "chunk" / "wear.csv")).back()), 2000);
+  auto restart = [&](const std::string& name, const std::function<std::string(const std::string&)>& damage) {
+    const fs::path out = d / name;
+    fs::copy(d / "chunk", out, fs::copy_options::recursive);
+    for (const char* table : {"thermo.csv", "wear.csv"}) {
+      const std::string text = damage(slurp(out / table));
+      std::ofstream(out / table, std::ios::binary | std::ios::trunc) << text;
+    }
+    const CommandResult r =
+        run_dem("--restart " + (out / "checkpoint.h5").string() + " -i " + whole.string() + " -o " + out.string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return r.output;
+  };
+
+  // Cut inside the rows of step 2,000: both are rewritten from the checkpoint.
+  std::string log = restart("torn", cut_inside_last_row);
+  EXPECT_EQ(slurp(d / "torn" / "thermo.csv"), thermo);
+  EXPECT_EQ(slurp(d / "torn" / "wear.csv"), wear);
+  EXPECT_TRUE(mentions(log, "thermo.csv was cut short or damaged before this restart: 1 row cut short or unreadable is "
+                            "dropped; the row of step 2000 is rewritten from the checkpoint."))
+      << log;
+  EXPECT_TRUE(mentions(log, "wear.csv was cut short or damaged")) << log;
+
+  // Cut back to the end of the row of step 750: the thermo rows of 1,000 to 1,750 are lost and said to be;
+  // the checkpoint holds every wear sample.
+  log = restart("short", [](const std::string& text) { return rows_where(text, [](long s) { return s <= 750; }); });
+  EXPECT_EQ(slurp(d / "short" / "thermo.csv"), rows_where(thermo, [](long s) { return s <= 750 || s >= 2000; }));
+  EXPECT_EQ(slurp(d / "short" / "wear.csv"), wear);
+  EXPECT_TRUE(mentions(log, "the row of step 2000 is rewritten from the checkpoint; the rows of steps 1000, 1250, "
+                            "1500 and 1750 are lost"))
+      << log;
+  EXPECT_TRUE(mentions(log, "wear.csv was cut short or damaged before this restart: 5 rows between steps 1000 and "
+                            "2000 are rewritten from the checkpoint."))
+      << log;
+
+  // Empty, as a crash can leave a file whose first write was never synced: taken as missing, not as a
+  // table whose columns differ.
+  log = restart("empty", [](const std::string&) { return std::string(); });
+  EXPECT_EQ(slurp(d / "empty" / "thermo.csv"), rows_where(thermo, [](long s) { return s > 2000; }));
+  EXPECT_EQ(slurp(d / "empty" / "wear.csv"), rows_where(wear, [](long s) { return s > 2000; }));
+}
+
+// The same for PeriDEM's thermo table (a test of its own: the hostdevice build leaves out tests named Peridem).
+TEST(ThermoTable, ARestartOverADamagedPeridemTableRewritesItsRows) {
+  const fs::path d = scratch("pd_damaged_table");
+  const fs::path whole = write(d, "whole.yaml", peridem_input(d / "unused", 120));
+  ASSERT_EQ(run_peridem("-i " + whole.string() + " -o " + (d / "whole").string()).exit_code, 0);
+  ASSERT_EQ(
+      run_peridem("-i " + write(d, "chunk.yaml", peridem_input(d / "unused", 80)).string() + " -o " + (d / "chunk").string())
+          .exit_code,
+      0);
+  const std::string thermo = slurp(d / "whole" / "thermo.csv");
+  ASSERT_EQ(row_step(table_lines(slurp(d / "chunk" / "thermo.csv")).back()), 80);
+  auto restart = [&](const std::string& name, const std::string& text) {
+    const fs::path out = d / name;
+    fs::copy(d / "chunk", out, fs::copy_options::recursive);
+    std::ofstream(out / "thermo.csv", std::ios::binary | std::ios::trunc) << text;
+    const CommandResult r = run_peridem("--restart " + (out / "checkpoint.h5").string() + " -i " + whole.string() +
+                                        " -o " + out.string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return r.output;
+  };
+  const std::string chunk = slurp(d / "chunk" / "thermo.csv");
+  std::string log = restart("torn", cut_inside_last_row(chunk));
+  EXPECT_EQ(slurp(d / "torn" / "thermo.csv"), thermo);
+  EXPECT_TRUE(mentions(log, "the row of step 80 is rewritten from the checkpoint")) << log;
+  log = restart("short", rows_where(chunk, [](long s) { return s <= 20; }));
+  EXPECT_EQ(slurp(d / "short" / "thermo.csv"), rows_where(thermo, [](long s) { return s <= 20 || s >= 80; }));
+  EXPECT_TRUE(mentions(log, "the rows of steps 40 and 60 are lost")) << log;
+  restart("empty", "");
+  EXPECT_EQ(slurp(d / "empty" / "thermo.csv"), rows_where(thermo, [](long s) { return s > 80; }));
 }
 
 }  // namespace

@@ -156,10 +156,19 @@ class DemRunModel final : public RunModel {
     dump_.emplace((fs::path(dir) / ("dump" + suffix + ".lammpstrj")).string());
     if (wear_) {
       // A restart continues wear.csv from the analysis's state in the checkpoint, which holds the sample
-      // of its own step when one was due.
+      // of its own step when one was due, and every sample before: a row the file lost or holds cut short
+      // is rewritten from them.
       const std::string path = (fs::path(dir) / "wear.csv").string();
-      wear_csv_.emplace(suffix.empty() ? ThermoCsv(path, WearAnalysis::columns())
-                                       : ThermoCsv(path, WearAnalysis::columns(), sim_.step_count()));
+      if (suffix.empty()) {
+        wear_csv_.emplace(path, WearAnalysis::columns());
+      } else {
+        ThermoResume resume{sim_.step_count(), cfg_.wear->every, {}};
+        if (wear_restored_)
+          for (const WearSample& w : wear_->samples())
+            if (w.step <= sim_.step_count()) resume.known.emplace(w.step, WearAnalysis::row(w));
+        wear_csv_.emplace(path, WearAnalysis::columns(), resume);
+        if (!wear_csv_->repair_note().empty()) std::cout << wear_csv_->repair_note() << "\n";
+      }
       if (suffix.empty()) {
         sample_wear();
       } else if (!wear_restored_) {

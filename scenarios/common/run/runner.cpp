@@ -78,6 +78,7 @@ struct Run::State {
   std::string last_good = "none (set output.checkpoint_every)";
   std::vector<std::string> cols;
   std::optional<ThermoCsv> thermo;
+  std::optional<std::vector<double>> first_row;  // a restart's row at its checkpoint's step
   std::string suffix;
   std::vector<PassTime> setup_times;
   double setup_seconds = 0, output_seconds = 0, step_bytes = 0;
@@ -106,7 +107,8 @@ struct Run::State {
     const long step = m.step_count();
     const bool first = step == first_step;
     if (due(plan.thermo_every, step) || final_step || first) {
-      const auto row = m.thermo_row();  // collective: every rank computes it
+      // Collective: every rank computes it (a restart's first row was computed at the start).
+      const auto row = first && first_row ? *first_row : m.thermo_row();
       if (root && !(plan.restored && first)) thermo->write_row(row);
       m.print_thermo(cols, row, first);
     }
@@ -275,13 +277,20 @@ int Run::start() {
     // ended there and wrote a row that is not due.
     const long first = s.first_step;
     const bool keep_first_row = due(plan.thermo_every, first) || first == 0 || s.last_step == first;
+    // A row the file lost or holds cut short (a crash before it was synced) is rewritten from the
+    // checkpoint where it can be: the row at the checkpoint's own step.
+    if (plan.restored && keep_first_row) s.first_row = model.thermo_row();
     const std::string thermo_path = (s.dir / "thermo.csv").string();
-    if (!s.root)
-      ;  // rank 0 writes the table
-    else if (plan.restored)
-      s.thermo.emplace(thermo_path, s.cols, keep_first_row ? first : first - 1);
-    else
+    if (!s.root) {
+      // rank 0 writes the table
+    } else if (plan.restored) {
+      ThermoResume resume{keep_first_row ? first : first - 1, plan.thermo_every, {}};
+      if (s.first_row) resume.known.emplace(first, *s.first_row);
+      s.thermo.emplace(thermo_path, s.cols, resume);
+      if (!s.thermo->repair_note().empty()) std::cout << s.thermo->repair_note() << "\n";
+    } else {
       s.thermo.emplace(thermo_path, s.cols);
+    }
     if (s.thermo && s.thermo->dropped_to_step() > first)
       std::cout << "thermo.csv: its rows after step " << first << ", up to step " << s.thermo->dropped_to_step()
                 << " (written by a run that went on past this checkpoint), are dropped; so are the other tables'\n";
