@@ -690,4 +690,35 @@ TEST(ThermoTable, ARestartOverADamagedPeridemTableRewritesItsRows) {
   EXPECT_EQ(slurp(d / "empty" / "thermo.csv"), rows_where(thermo, [](long s) { return s > 80; }));
 }
 
+// A run killed while writing a checkpoint leaves checkpoint.h5.tmp beside the whole previous one: the next
+// start, or restart, removes it and says so. The restart has nothing left to run, so it writes no
+// checkpoint of its own (whose writing would replace the file).
+template <class Run>
+void expect_unfinished_checkpoint_removed(const fs::path& out, const std::string& input, Run run) {
+  const fs::path tmp = out / "checkpoint.h5.tmp";
+  fs::create_directories(out);
+  std::ofstream(tmp, std::ios::binary) << "half a checkpoint";
+  CommandResult r = run("-i " + input + " -o " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(mentions(r.output, "removed " + tmp.string() + ", a checkpoint left unfinished")) << r.output;
+  const std::string checkpoint = slurp(out / "checkpoint.h5");
+  std::ofstream(tmp, std::ios::binary) << "half a checkpoint";
+  r = run("--restart " + (out / "checkpoint.h5").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(mentions(r.output, "removed " + tmp.string() + ", a checkpoint left unfinished")) << r.output;
+  EXPECT_FALSE(fs::exists(tmp));
+  EXPECT_EQ(slurp(out / "checkpoint.h5"), checkpoint);
+}
+
+TEST(Checkpoint, AnUnfinishedDemCheckpointIsRemovedAtTheNextStart) {
+  const fs::path d = scratch("dem_unfinished_checkpoint");
+  expect_unfinished_checkpoint_removed(d / "out", write(d, "run.yaml", dem_input(d / "unused", 20)).string(), run_dem);
+}
+
+TEST(Checkpoint, AnUnfinishedPeridemCheckpointIsRemovedAtTheNextStart) {
+  const fs::path d = scratch("pd_unfinished_checkpoint");
+  expect_unfinished_checkpoint_removed(d / "out", write(d, "run.yaml", peridem_input(d / "unused", 20)).string(),
+                                       run_peridem);
+}
+
 }  // namespace

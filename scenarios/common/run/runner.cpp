@@ -270,6 +270,13 @@ int Run::start() {
       std::error_code ec;
       fs::create_directories(s.dir, ec);
       if (ec) throw output_error(s.dir.string(), "cannot create the output directory: " + ec.message());
+      // A run killed while writing its checkpoint leaves the unfinished file beside the whole previous one.
+      const fs::path unfinished = s.checkpoint + ".tmp";
+      if (fs::exists(unfinished, ec) && !(plan.restored && fs::equivalent(s.options.restart, unfinished, ec))) {
+        fs::remove(unfinished, ec);
+        std::cout << "removed " << unfinished.string() << ", a checkpoint left unfinished by a run stopped while "
+                  << "writing it" << (ec ? " (failed: " + ec.message() + ")" : std::string()) << "\n";
+      }
     }
     s.cols = model.thermo_columns();
     // A restart keeps the rows up to its checkpoint's step, but the row at that step only where the run
