@@ -1,6 +1,8 @@
 #include "core/particles.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <numeric>
 #include <numbers>
 #include <string>
 #include <type_traits>
@@ -95,13 +97,51 @@ std::int64_t Particles::max_id() const {
   return id.empty() ? -1 : *std::max_element(id.begin(), id.end());
 }
 
-void Particles::check_ids() const {
-  std::vector<std::int64_t> sorted(id.begin(), id.end());
-  std::sort(sorted.begin(), sorted.end());
-  if (!sorted.empty() && sorted.front() < 0)
-    throw input_error("particle id", std::to_string(sorted.front()), "ids must be >= 0");
-  const auto dup = std::adjacent_find(sorted.begin(), sorted.end());
-  if (dup != sorted.end()) throw input_error("particle id", std::to_string(*dup), "ids must be unique");
+void Particles::check_column(const std::string& name, const std::string& key) const {
+  const auto which = [this](std::size_t i) {
+    return " (particle id " + std::to_string(id[i]) + " at index " + std::to_string(i) + ")";
+  };
+  if (name == "id") {
+    std::vector<std::size_t> order(size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(), [this](std::size_t a, std::size_t b) {
+      return id[a] < id[b] || (id[a] == id[b] && a < b);
+    });
+    if (!order.empty() && id[order.front()] < 0)
+      throw input_error(key, std::to_string(id[order.front()]), "ids must be >= 0" + which(order.front()));
+    for (std::size_t k = 1; k < order.size(); ++k)
+      if (id[order[k]] == id[order[k - 1]])
+        throw input_error(key, std::to_string(id[order[k]]),
+                          "ids must be unique: particle id " + std::to_string(id[order[k]]) + " at index " +
+                              std::to_string(order[k - 1]) + " and at index " + std::to_string(order[k]));
+    return;
+  }
+  bool found = false;
+  for_each_column([&](const char* n, const auto& col) {
+    if (found || name != n) return;
+    found = true;
+    using T = std::decay_t<decltype(col[0])>;
+    for (std::size_t i = 0; i < col.size(); ++i) {
+      const T v = col[i];
+      if constexpr (std::is_floating_point_v<T>) {
+        // Mass, inertia and radius divide (accelerations, eq 6's stiffness): zero or negative is no particle.
+        const bool positive = name == "radius" || name == "mass" || name == "inertia";
+        if (!std::isfinite(v)) throw input_error(key, format_value(v), "must be finite" + which(i));
+        if (positive && !(v > 0)) throw input_error(key, format_value(v), "must be > 0" + which(i));
+      } else if (name == "type" && v < 1) {
+        throw input_error(key, std::to_string(v), "types must be >= 1, as in LAMMPS" + which(i));
+      } else if (name == "group" && v < -1) {
+        throw input_error(key, std::to_string(v), "must be a group's index, or -1 for no group" + which(i));
+      } else if (name == "label" && (v < 0 || static_cast<std::size_t>(v) > label_names.size())) {
+        throw input_error(key, std::to_string(v),
+                          (label_names.empty() ? std::string("must be 0: this system names no labels")
+                                               : "must be 0 (none) or 1 to " + std::to_string(label_names.size()) +
+                                                     " (a label's number)") +
+                              which(i));
+      }
+    }
+  });
+  if (!found) throw input_error(key, name, "no such particle column");
 }
 
 void Particles::set_mass_from_density(double density) {

@@ -71,8 +71,12 @@ class Particles {
   /// Largest permanent id (or -1 when empty).
   std::int64_t max_id() const;
 
-  /// Throws InputError if ids are negative or repeated.
-  void check_ids() const;
+  /// The values a system's particles must hold in column `name`, checked at set-up on what the input gave
+  /// and again on what a host-side edit wrote (the Python module's): `id` >= 0 and unique; `radius`, `mass`
+  /// and `inertia` finite and > 0; every other floating column finite; `type` >= 1 (LAMMPS); `group` >= -1
+  /// (its upper end is the Groups'); `label` within label_names. InputError naming `key`, the value and the
+  /// particle (its id and index).
+  void check_column(const std::string& name, const std::string& key) const;
 
   /// Sets mass = density * 4/3 pi r^3 and inertia = 2/5 m r^2 (solid spheres).
   void set_mass_from_density(double density);

@@ -27,15 +27,8 @@ void DemSimulation::setup() {
           : exec::offload_build()                    ? PairPass::full
                                                      : PairPass::half;
   if (p_.size() == 0) throw input_error("particles", "none", "the system has no particle");
-  p_.check_ids();
-  for (std::size_t i = 0; i < p_.size(); ++i) {
-    const double r = p_.radius[i];
-    if (!(r > 0.0) || !std::isfinite(r))
-      throw input_error("particles.radius", format_value(r), "radius of particle id " + std::to_string(p_.id[i]) + " must be > 0");
-    for (double c : {p_.x[i], p_.y[i], p_.z[i]})
-      if (!std::isfinite(c))
-        throw input_error("particles.position", format_value(c), "particle id " + std::to_string(p_.id[i]) + " has a non-finite coordinate");
-  }
+  // The same checks an edit from Python meets (Particles::check_column); masses come later, from the density.
+  for (const char* column : {"id", "radius", "x", "y", "z"}) p_.check_column(column, std::string("particles.") + column);
   if (settings_.masses_from_density) p_.set_mass_from_density(settings_.material.density);
   groups_.refresh_members(p_);
   // Members of frozen and rigid groups start with their group's motion, not with whatever the input said.
