@@ -147,7 +147,7 @@ PYBIND11_MODULE(_debris, m) {
              return state_column(r, name, writable, owner);
            },
            "name"_a, "writable"_a, "owner"_a)
-      .def("end_edit", &end_state_edit, "positions_changed"_a)
+      .def("end_edit", &end_state_edit, "written"_a, "positions_changed"_a)
       // DEM.
       .def("dem_groups",
            [](PyRun& r) {

@@ -23,8 +23,16 @@ std::vector<std::string> state_columns(PyModel model);
 /// unknown name. PeriDEM's `damage` is brought up to date first (eq 14 for the current positions).
 pybind11::array state_column(PyRun& run, const std::string& name, bool writable, pybind11::handle owner);
 
-/// The end of an edit: the host copy marked changed (offload builds), the neighbour or contact list rebuilt
-/// when positions may have moved (`positions_changed`), and this step's forces evaluated again.
-void end_state_edit(PyRun& run, bool positions_changed);
+/// The columns an edit wrote (`written`), checked as the input's values are at set-up: InputError naming
+/// 'state.<column>', the value and the item (DEM: Particles::check_column, a group index within the groups,
+/// the time step still below eq 6's dt_c for the edited radii and masses; PeriDEM: finite values, volume,
+/// mass and weighted volume > 0, ids unique, each node in the grain its place gives it, `fixed` a mask of
+/// x, y, z). Nothing is changed; the caller puts the columns back when it throws.
+void check_state_edit(PyRun& run, const std::vector<std::string>& written);
+
+/// The end of an edit: the written columns checked (check_state_edit), then the host copy marked changed
+/// (offload builds), the neighbour or contact list rebuilt when positions may have moved
+/// (`positions_changed`), and this step's forces evaluated again.
+void end_state_edit(PyRun& run, const std::vector<std::string>& written, bool positions_changed);
 
 }  // namespace debris

@@ -23,6 +23,7 @@ view made before a re-sort raises StaleViewError instead of reading particles th
 """
 
 import contextlib
+import operator
 import os
 
 import numpy as np
@@ -125,9 +126,11 @@ class State:
     def __getattr__(self, name):
         if name not in self._names:
             raise AttributeError(f"'{name}': no such column (columns: {', '.join(self._names)})")
-        if self._edit is not None:
-            self._edit.touched.add(name)
-        return Column(self._sim, name, self._edit)
+        edit = self._edit
+        if edit is not None and name not in edit.saved:
+            # Kept until the edit ends, so that an edit refused by the checks leaves the state as it was.
+            edit.saved[name] = np.array(self._sim._run.column(name, False, self._sim), copy=True)
+        return Column(self._sim, name, edit)
 
     def __setattr__(self, name, value):
         getattr(self, name)[...] = value
@@ -150,7 +153,7 @@ class State:
 
 class _Edit:
     def __init__(self):
-        self.touched = set()
+        self.saved = {}  # each column taken in the edit, as it was before: {name: copy}
 
 
 class _Simulation:
@@ -220,11 +223,31 @@ class _Simulation:
 
     # Stepping.
     def run(self, steps=None, *, finish=True):
-        """Makes `steps` steps (None: to the plan's end), never past the plan's end, with the executable's
-        outputs and checks at each. At the plan's end the run is finished (closing report and pass table)
-        unless finish=False. Returns self."""
-        return self._advance(lambda: self._run.advance(self._run.last_step - self._run.step if steps is None
-                                                       else int(steps)), finish)
+        """Makes `steps` steps (None: to the plan's end), with the executable's outputs and checks at each.
+        `steps` is a whole number from 0 to the steps left in the plan (last_step - step): a count past the
+        plan's end is refused (ValueError), as the plan (run.steps, the stages) is what sets the outputs and
+        the closing report. At the plan's end the run is finished (closing report and pass table) unless
+        finish=False. Returns self."""
+        return self._advance(lambda: self._run.advance(self._steps_to_make(steps)), finish)
+
+    def _steps_to_make(self, steps):
+        left = self._run.last_step - self._run.step
+        if steps is None:
+            return left
+        if isinstance(steps, bool):
+            raise TypeError(f"run(steps={steps!r}): steps is a count of steps (an int), not a bool")
+        try:
+            n = operator.index(steps)
+        except TypeError:
+            raise TypeError(f"run(steps={steps!r}): steps is a whole number of steps (an int), not a "
+                            f"{type(steps).__name__}") from None
+        if n < 0:
+            raise ValueError(f"run(steps={n}): steps must be >= 0")
+        if n > left:
+            raise ValueError(f"run(steps={n}) at step {self._run.step}: the plan ends at step {self._run.last_step}, "
+                             f"{left} steps from here; give at most {left} (run() runs to the end), or a longer "
+                             f"plan (run.steps, the stages)")
+        return n
 
     def run_stage(self, *, finish=True):
         """Runs to the start of the next stage (its changes made) or to the end. Returns self."""
@@ -278,7 +301,9 @@ class _Simulation:
         """`with sim.edit() as state:` the columns, writable. At the end the host copy is marked changed
         (offload builds send it to the device before the next kernel), the neighbour or contact list is
         rebuilt if positions were written, and this step's forces are evaluated again, as a stage's changes
-        are."""
+        are. What was written is checked as the input's values are (a radius > 0, ids unique, every value
+        finite, ...): a bad value raises InputError naming the column, the value and the item, and every
+        column taken in the edit is put back as it was."""
         self._check_no_edit()
         edit = _Edit()
         self._edit = edit
@@ -286,7 +311,13 @@ class _Simulation:
             yield State(self, edit)
         finally:
             self._edit = None
-            self._run.end_edit(bool(edit.touched & set(self._position_columns)))
+            written = sorted(edit.saved)
+            try:
+                self._run.end_edit(written, bool(set(written) & set(self._position_columns)))
+            except InputError:
+                for name, before in edit.saved.items():
+                    self._run.column(name, True, self)[...] = before
+                raise
 
     def _check_no_edit(self):
         if self._edit is not None:
