@@ -60,10 +60,11 @@ std::string kind(const YAML::Node& node) {
   return "empty";
 }
 
-/// " (in.yaml line 12)", or nothing for a node that did not come from the parser.
+/// " (in.yaml line 12)", or nothing for a node that did not come from the parser or for a text without a
+/// name (one whose lines the user never saw, such as the Python module's dict made into YAML).
 std::string where(const std::string& source, const YAML::Node& node) {
   const YAML::Mark mark = node.Mark();
-  if (mark.is_null() || mark.line < 0) return "";
+  if (source.empty() || mark.is_null() || mark.line < 0) return "";
   return " (" + source + " line " + std::to_string(mark.line + 1) + ")";
 }
 

@@ -28,7 +28,8 @@ class InputNode {
  public:
   /// InputError naming the path if the file is missing or unreadable, or the line and column of a syntax error.
   static InputNode load_file(const std::string& path);
-  /// `name` stands in for the file name in error messages.
+  /// `name` stands in for the file name in error messages; an empty one gives no line numbers (a text the
+  /// user never saw as lines: the key paths alone say where).
   static InputNode load_string(const std::string& yaml, const std::string& name = "<string>");
 
   /// Dotted key path of this node: "" for the root, "material", "groups[1].motion".

@@ -70,7 +70,7 @@ PyRun::PyRun(PyModel model, const PyRunArgs& args) : kind_(model), quiet_(args.q
   if (!args.values.is_none()) {
     if (!args.input.empty()) throw py::value_error("give the input as a file or as a dict, not both");
     opt.input_text = yaml_from_python(args.values);
-    opt.input_name = "the input dict";
+    opt.input_name = "";  // errors name the key path: the YAML text's lines are not the user's
     opt.base_directory = args.base_directory.empty() ? std::filesystem::current_path().string() : args.base_directory;
   }
   if (opt.input.empty() && opt.input_text.empty() && opt.restart.empty())

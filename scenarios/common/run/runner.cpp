@@ -415,7 +415,7 @@ InputSource input_source(const RunOptions& options, const std::string& checkpoin
   InputSource s;
   if (!options.input_text.empty()) {
     s.text = options.input_text;
-    s.name = options.input_name.empty() ? "input text" : options.input_name;
+    s.name = options.input_name;  // empty: messages name key paths, not lines of a text the user never saw
     s.base_directory = options.base_directory;
   } else if (options.input.empty()) {
     s.text = checkpoint_echo;

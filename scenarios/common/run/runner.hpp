@@ -30,7 +30,8 @@ struct RunOptions {
   std::string input, output, restart;
   int threads = 0;
   // The input as text rather than a file (the Python module's dict, emitted as YAML): used when not empty,
-  // named `input_name` in messages; relative paths in it are taken from `base_directory`.
+  // named `input_name` in messages (empty: a text whose lines the user never saw, as a Python dict's, whose
+  // messages name the key path alone); relative paths in it are taken from `base_directory`.
   std::string input_text, input_name, base_directory;
 };
 
