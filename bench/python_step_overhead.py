@@ -5,7 +5,7 @@
 per-call overhead is the difference over N. A measurement for the record (README, issue notes), not a
 target: it prints one line per case, with the CPU it ran on.
 
-    PYTHONPATH=build/python python3 bench/python_step_overhead.py [--steps 1000] [--repeats 3]
+    PYTHONPATH=build/python /usr/bin/python3 bench/python_step_overhead.py [--steps 1000] [--repeats 3]
 """
 
 import argparse

@@ -25,11 +25,33 @@ view made before a re-sort raises StaleViewError instead of reading particles th
 import contextlib
 import operator
 import os
+import sys
 
-import numpy as np
-from numpy.lib.mixins import NDArrayOperatorsMixin
+from . import _build
 
-from . import _debris
+
+def _wrong_interpreter(problem):
+    """ImportError saying which interpreter this build of debris is for, and how to run it with that one."""
+    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    this = sys.executable or "this interpreter"
+    return ImportError(
+        f"debris: {problem}. This debris was built for {_build.executable} (Python {_build.version}); this is "
+        f"{this} (Python {sys.version.split()[0]}). Run it with the interpreter it was built for: "
+        f"PYTHONPATH={here} {_build.executable} your_script.py; or configure the build for this one: "
+        f"cmake -S <debris> -B build -DPython3_EXECUTABLE={this} (it needs numpy and pybind11 there)")
+
+
+if sys.version_info[:2] != tuple(int(v) for v in _build.version.split(".")[:2]):
+    raise _wrong_interpreter(f"its compiled part is for Python {'.'.join(_build.version.split('.')[:2])}")
+try:
+    import numpy as np
+    from numpy.lib.mixins import NDArrayOperatorsMixin
+except ImportError as e:
+    raise _wrong_interpreter(f"numpy cannot be imported here ({e})") from e
+try:
+    from . import _debris
+except ImportError as e:
+    raise _wrong_interpreter(f"its compiled part _debris cannot be loaded here ({e})") from e
 from ._debris import InputError, RunStopped, StaleViewError, load_input, offload_build, yaml_from_dict
 
 __all__ = ["Dem", "Peridem", "InputError", "RunStopped", "StaleViewError", "columns", "load_input",

@@ -5,7 +5,7 @@ No YAML is written by hand: each case is the shipped D = 10 nm, d0 = 6 nm juncti
 changed in Python; the wear analysis's verdict and its last window come back as values, and one matplotlib
 figure shows the tangential force on the top wall against its slide for every case.
 
-    PYTHONPATH=build/python python3 scenarios/python/examples/junction_setup_study.py --out out/study
+    PYTHONPATH=build/python /usr/bin/python3 scenarios/python/examples/junction_setup_study.py --out out/study
     # about 1 min per case of 10 ns on one core; --slide-ns 1 for a quick look
 
 Prints one line per case (verdict, mean tangential force over the last window) and writes

@@ -9,7 +9,7 @@ flight, so the top disc starts 0.2 mm above the bottom one at the speed of the r
 has left the contact (free and rising for 100 steps) its centre rises ballistically, H1 = h + v^2 / 2g.
 The loop that watches for that runs in Python, one step per call, on values the module returns.
 
-    PYTHONPATH=build/python python3 scenarios/python/examples/peridem_restitution_sweep.py
+    PYTHONPATH=build/python /usr/bin/python3 scenarios/python/examples/peridem_restitution_sweep.py
     # the five rows of Table 2, under a second each (2,900 steps of 300 nodes); --eps 0.95 for one row
 
 Prints each row with the paper's value beside it.
