@@ -16,21 +16,19 @@ PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(debris.__file__)))
 
 
 def _other_interpreters():
-    """Every python3 on PATH (and python3.N beside it) that is not the interpreter running these tests."""
+    """Every python3 on PATH that is not the interpreter running these tests (a pyenv shim is asked which
+    interpreter it runs)."""
     mine = os.path.realpath(sys.executable)
     found = {}
     for d in os.environ.get("PATH", "").split(os.pathsep):
-        if not os.path.isdir(d):
+        path = os.path.join(d, "python3")
+        if not os.access(path, os.X_OK) or os.path.realpath(path) == mine:
             continue
-        for name in sorted(os.listdir(d)):
-            path = os.path.join(d, name)
-            if not re.fullmatch(r"python3(\.\d+)?", name) or not os.access(path, os.X_OK):
-                continue
-            p = subprocess.run([path, "-c", "import sys; print(sys.executable)"], capture_output=True, text=True,
-                               timeout=60)
-            real = os.path.realpath(p.stdout.strip()) if p.returncode == 0 else ""
-            if real and real != mine:
-                found.setdefault(real, path)
+        p = subprocess.run([path, "-c", "import sys; print(sys.executable)"], capture_output=True, text=True,
+                           timeout=60)
+        real = os.path.realpath(p.stdout.strip()) if p.returncode == 0 else ""
+        if real and real != mine:
+            found.setdefault(real, path)
     return list(found.values())
 
 
