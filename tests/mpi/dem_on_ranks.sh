@@ -1,16 +1,18 @@
 #!/usr/bin/env bash
-# debris_dem cut among MPI ranks writes what one process writes (issue 26's test 3, on the README's default
-# input, shortened): the junction of d0 = 6 nm under its load, settling then sliding (stages, a frozen and a
+# debris_dem cut among MPI ranks writes what the serial build writes (on the README's default input,
+# shortened): the junction of d0 = 6 nm under its load, settling then sliding (stages, a frozen and a
 # force-driven wall, global damping, carving and labels, the wear analysis), 3,000 steps (the settling
 # stage and 500 steps of the slide) with thermo rows every 250, frames and checkpoints every 1,500. On 1, 2,
 # 3 and 4 ranks, and on 2 ranks of 2 threads: thermo.csv, wear.csv and the LAMMPS dump byte for byte the
-# same, the HDF5 trajectory (every particle of every frame) and the final checkpoint dataset for dataset
-# (h5diff, from hdf5-tools); a checkpoint written on 4 ranks continues on 2, and one written on 1 on 3, to the same thermo.csv
+# serial build's, the HDF5 trajectory (every particle of every frame) and the final checkpoint dataset for
+# dataset (h5diff, from hdf5-tools), and particles crossed a cut (the pass table's count over all ranks); a
+# checkpoint written on 4 ranks continues on 2, and one the serial build wrote on 3, to the same thermo.csv
 # and wear.csv. The whole default run on 2 ranks: the same files and wear verdict. Bad input on 3 ranks:
-# one message, exit 2, nothing written. A run that blows up: the same health-check stop on 1 and 3 ranks.
-#   dem_on_ranks.sh <mpirun> <debris_dem> <source dir> <work dir>
+# one message, exit 2, nothing written. A run that blows up: the same health-check stop in the serial build
+# and on 1 and 3 ranks.
+#   dem_on_ranks.sh <mpirun> <debris_dem> <serial build's debris_dem> <source dir> <work dir>
 set -euo pipefail
-mpirun=$1 dem=$2 src=$3 work=$4 exe=$2
+mpirun=$1 dem=$2 serial=$3 src=$4 work=$5 exe=$2
 source "$(dirname "$0")/on_ranks.sh"
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
 export OMP_NUM_THREADS=1 OMP_WAIT_POLICY=passive
@@ -23,34 +25,35 @@ sed -e 's|steps: 3000|steps: 1500|' full.yaml > half.yaml
 sed -e 's|poisson_ratio: 0.17|poisson_ratio: 0.4|' full.yaml > bad.yaml
 sed -e 's|time_step: 80 fs |time_step: 2.5 ps\n  allow_unstable_time_step: true\n |' full.yaml > unstable.yaml
 
-run 1 -i full.yaml -o one > one.log
-for np in 2 3 4; do
+run serial -i full.yaml -o one > one.log
+for np in 1 2 3 4; do
   run $np -i full.yaml -o ranks$np > ranks$np.log
   for f in thermo.csv wear.csv dump.lammpstrj; do same one/$f ranks$np/$f "$f on $np ranks"; done
   # HDF5 files carry their write times: h5diff compares every dataset and attribute instead.
   for f in trajectory.h5 checkpoint.h5; do same_h5 one/$f ranks$np/$f "$f on $np ranks"; done
-  grep -q "^comm " ranks$np.log || { echo "no comm row in the pass table on $np ranks"; failed=1; }
+  [ $np = 1 ] || crossed ranks$np.log "$np ranks"
 done
 # Hybrid: 2 ranks of 2 threads each (unbound: the two ranks share the machine's cores).
 OMP_NUM_THREADS=2 "$mpirun" -np 2 --oversubscribe --allow-run-as-root --bind-to none --mca mpi_yield_when_idle 1 \
   "$dem" -i full.yaml -o hybrid --threads 2 > hybrid.log
 for f in thermo.csv wear.csv dump.lammpstrj; do same one/$f hybrid/$f "$f on 2 ranks x 2 threads"; done
-# Restarts across rank counts: 4 -> 2 and 1 -> 3.
+# Restarts across rank counts: 4 -> 2, and the serial build's checkpoint on 3.
 run 4 -i half.yaml -o from4 > from4.log
 run 2 -i full.yaml --restart from4/checkpoint.h5 > to2.log
-run 1 -i half.yaml -o from1 > from1.log
+run serial -i half.yaml -o from1 > from1.log
 run 3 -i full.yaml --restart from1/checkpoint.h5 > to3.log
 for f in thermo.csv wear.csv; do
   same one/$f from4/$f "$f written on 4 ranks to step 1500, continued on 2"
-  same one/$f from1/$f "$f written on 1 rank to step 1500, continued on 3"
+  same one/$f from1/$f "$f written by the serial build to step 1500, continued on 3 ranks"
 done
 # The default input in full (127,500 steps, 10.2 ns: settling, then 100 nm of slide) on 2 ranks: the same
-# files and the same wear verdict as one process.
+# files and the same wear verdict as the serial build.
 sed -e "s|lammps_data: ../wear/data/|lammps_data: $src/scenarios/wear/data/|" -e 's|pictures: true |pictures: false|' \
     "$src/scenarios/dem/default.yaml" > default.yaml
-run 1 -i default.yaml -o default1 > default1.log
+run serial -i default.yaml -o default1 > default1.log
 run 2 -i default.yaml -o default2 > default2.log
 for f in thermo.csv wear.csv dump.lammpstrj; do same default1/$f default2/$f "$f of the whole default run on 2 ranks"; done
+crossed default2.log "the whole default run on 2 ranks"
 verdict1=$(grep "wear: verdict" default1.log) verdict2=$(grep "wear: verdict" default2.log)
 if [ -n "$verdict1" ] && [ "$verdict1" = "$verdict2" ]; then echo "same: $verdict1"; else echo "DIFFERS: verdicts '$verdict1' and '$verdict2'"; failed=1; fi
 # Bad input: rank 0 alone says so, every rank exits 2, nothing is written.
@@ -63,7 +66,7 @@ set -e
 [ ! -e bad ] || { echo "bad input wrote bad/"; failed=1; }
 # A run that blows up (31 times the input's time step; it stops at step 80, before round-off from the storage
 # order can move the step: at 25 times it blew up at step 2,000 with one order and not in 3,000 with another):
-# the health check stops it at the same step with the same message on 1 and 3 ranks (the lowest rank that
-# finds the pair reports it), exit 3 on every rank.
-stops_alike unstable.yaml "stopped: exploding overlap at step" 1 3
+# the health check stops it at the same step with the same message in the serial build and on 1 and 3 ranks
+# (the lowest rank that finds the pair reports it), exit 3 on every rank.
+stops_alike unstable.yaml "stopped: exploding overlap at step" serial 1 3
 exit $failed

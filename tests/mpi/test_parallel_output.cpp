@@ -122,7 +122,9 @@ void trajectory_of_ranks_is_the_serial_one(bool gaps) {
   DemSettings settings;
   settings.material = table4_material(0.0);
   settings.time_step_fraction = 0.1;
-  const double slide = 0.4;  // length units a step
+  // Length units a step: 72, 58 and 43 in all along x, y and z, past the 35 from a layer of the block to
+  // the next cut (a quarter of a cell), so every cut is crossed.
+  const double slide = 0.6;
   Particles probe = particles;
   probe.set_mass_from_density(settings.material.density);
   const double dt = 0.1 * stability_limits(CohesiveCoefficients::from(settings.material), probe).dt_c;
@@ -161,6 +163,9 @@ void trajectory_of_ranks_is_the_serial_one(bool gaps) {
     TrajectoryWriter out(dir, "ranks", {}, true);
     frames(sim, &out, true);
     EXPECT_GT(sim.times().rebuilds, 2) << grid;
+    // The frames must hold particles that changed ranks between them.
+    const std::int64_t crossed = sim.migrated_in_all();
+    if (size() > 1) EXPECT_GT(crossed, 0) << "particles must cross a cut, " << grid;
     barrier();
     if (rank() == 0) {
       SCOPED_TRACE("ranks " + grid);

@@ -60,6 +60,13 @@ FrameShare DemSimulation::frame_share() const {
   return share;
 }
 
+std::int64_t DemSimulation::migrated_in_all() const {
+  if (!distributed_) return 0;
+  std::int64_t sent = times_.migrated;
+  comm::allreduce_sum(&sent, 1);
+  return sent;
+}
+
 void DemSimulation::rebuild_distributed() {
   {
     const PassTimer timer(times_.comm);

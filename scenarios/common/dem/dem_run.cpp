@@ -259,13 +259,14 @@ class DemRunModel final : public RunModel {
     if (sim_.distributed()) {
       std::ostringstream note;
       note << "(" << sim_.decomposition().describe() << "; rank 0's halo " << sim_.halo().forward_bytes()
-           << " B per step, " << t.migrated << " particles migrated)";
+           << " B per step; " << migrated_in_all_ << " particles crossed a cut, over all ranks)";
       rows.push_back({"comm", t.comm, note.str()});
     }
     if (wear_) rows.push_back({"wear", wear_seconds_, "(bonds, clusters, rigid fits: wear.csv)"});
     return rows;
   }
   std::string closing_report() override {
+    migrated_in_all_ = sim_.migrated_in_all();  // every rank closes the run: the sum is collective
     std::string report = wear_ ? wear_->report() : std::string();
     if (cfg_.output.pictures) {
       sim_.with_whole_system([&](const DemSimulation& whole) {
@@ -302,6 +303,7 @@ class DemRunModel final : public RunModel {
   DemRunConfig cfg_;
   const bool root_ = comm::rank() == 0;  // writes the files of a run cut among ranks
   double overlap_limit_ = 0.5;
+  std::int64_t migrated_in_all_ = 0;  // for the pass table, summed when the run closes
   std::optional<CohesiveDiagnostics> diag_;
   long diag_step_ = -1;
   std::optional<DumpWriter> dump_;

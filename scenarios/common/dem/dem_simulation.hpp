@@ -151,6 +151,9 @@ class DemSimulation {
   bool distributed() const { return distributed_; }
   const comm::Decomposition& decomposition() const { return decomposition_; }
   const comm::Halo& halo() const { return halo_; }
+  /// Particles that crossed a cut since the set-up (each sent from one rank to another at a rebuild), summed
+  /// over the ranks: collective in a run cut among ranks, 0 in one process.
+  std::int64_t migrated_in_all() const;
   /// Per stored particle: 1 when this rank owns it, 0 for a ghost (distributed runs; empty otherwise).
   const std::vector<unsigned char>& owned_mask() const { return owned_; }
   /// Which stored particles a global sum counts, over which ranks (core/block_sums.hpp).
