@@ -40,12 +40,18 @@ Decomposition Decomposition::make(const Box& box, int ranks, int rank, double gh
     throw input_error("ghost width", format_value(ghost_width), "must be a positive length");
   const auto largest = largest_counts(box, ghost_width);
   const auto refuse = [&](const std::string& what) {
+    // Named for what the user can change: the rank count mpirun starts, and the box. No unit is printed
+    // after a length: a run of plain numbers has its own.
+    const long most = static_cast<long>(largest[0]) * largest[1] * largest[2];
     std::ostringstream os;
-    os << what << "; subdomains must be at least twice the ghost width (2 x " << format_value(ghost_width)
-       << " m: the pair cutoff + skin, and for PeriDEM grains their reach) wide on every cut axis, so this box takes at most " << largest[0]
-       << " along x, " << largest[1] << " along y and " << largest[2] << " along z ("
-       << static_cast<long>(largest[0]) * largest[1] * largest[2]
-       << " ranks in all); run on fewer ranks or on a larger sample";
+    os << what << ": this box, " << format_value(box.length(0)) << " x " << format_value(box.length(1)) << " x "
+       << format_value(box.length(2)) << ", takes at most " << largest[0] << " along x, " << largest[1]
+       << " along y and " << largest[2] << " along z (" << most << (most == 1 ? " rank" : " ranks")
+       << " in all), since a subdomain must be at least twice the ghost width wide on every cut axis (2 x "
+       << format_value(ghost_width)
+       << ": the pair cutoff + skin, and for PeriDEM grains their reach; lengths in metres, or in the "
+          "input's own unit where it gives plain numbers); start at most "
+       << most << (most == 1 ? " rank" : " ranks") << " (mpirun -np " << most << "), or make the box larger";
     return input_error(key, std::to_string(ranks), os.str());
   };
 

@@ -21,10 +21,11 @@ class Decomposition {
   Decomposition() = default;  // one rank, the whole box
 
   /// The grid with the least surface for `ranks` ranks, or `requested` (Px, Py, Pz, product = ranks) when
-  /// given non-zero. InputError (key `key`) when no grid, or the requested one, has subdomains at least
-  /// 2 `ghost_width` wide on every cut axis: the message names the largest rank count along each axis.
+  /// given non-zero. InputError (key `key`, by default the rank count mpirun starts) when no grid, or the
+  /// requested one, has subdomains at least 2 `ghost_width` wide on every cut axis: the message names the
+  /// box and the largest rank count along each axis.
   static Decomposition make(const Box& box, int ranks, int rank, double ghost_width,
-                            std::array<int, 3> requested = {0, 0, 0}, const std::string& key = "run.ranks");
+                            std::array<int, 3> requested = {0, 0, 0}, const std::string& key = "mpirun -np");
 
   const std::array<int, 3>& grid() const { return grid_; }
   const std::array<int, 3>& coord() const { return coord_; }

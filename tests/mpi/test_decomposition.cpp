@@ -79,8 +79,13 @@ TEST(Decomposition, ThinSubdomainsAreANamedInputError) {
     FAIL() << "no error";
   } catch (const InputError& e) {
     const std::string m = e.what();
-    EXPECT_NE(m.find("'run.ranks' = 4"), std::string::npos) << m;
-    EXPECT_NE(m.find("at most 1 along x, 1 along y and 3 along z (3 ranks in all)"), std::string::npos) << m;
+    // Named for what the user can change (the rank count, the box), lengths without a unit of their own.
+    EXPECT_NE(m.find("'mpirun -np' = 4: no grid of 4 ranks fits this box: this box, 1 x 1 x 2, takes at most 1 along "
+                     "x, 1 along y and 3 along z (3 ranks in all)"),
+              std::string::npos)
+        << m;
+    EXPECT_NE(m.find("(2 x 0.3: the pair cutoff + skin"), std::string::npos) << m;
+    EXPECT_NE(m.find("start at most 3 ranks (mpirun -np 3), or make the box larger"), std::string::npos) << m;
   }
   // A requested grid too thin, and one that does not multiply to the rank count.
   EXPECT_THROW(Decomposition::make(box_of(1, 1, 2), 2, 0, 0.3, {2, 1, 1}), InputError);

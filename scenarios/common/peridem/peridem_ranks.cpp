@@ -105,7 +105,7 @@ void PeridemSimulation::distribute(std::array<int, 3> rank_grid) {
   const Vec3 hi{std::max(placed_hi_.x, lo.x + width), std::max(placed_hi_.y, lo.y + width),
                 std::max(placed_hi_.z, lo.z + width)};
   box_ = Box(lo, hi, {false, false, false});
-  decomposition_ = comm::Decomposition::make(box_, comm::size(), comm::rank(), width, rank_grid, "run.ranks");
+  decomposition_ = comm::Decomposition::make(box_, comm::size(), comm::rank(), width, rank_grid);
 
   comm::GrainStore store{nodes_, grains_, bonds_};
   comm::keep_owned_grains(decomposition_, box_, store);
@@ -165,10 +165,12 @@ void PeridemSimulation::rebuild_distributed() {
       const auto most = comm::Decomposition::largest_counts(box_, width);
       // Every rank finds it (the width is the largest over all): all stop alike, and the run continues from
       // its last checkpoint on fewer ranks.
-      throw RunStop("'run.ranks' = " + decomposition_.describe() + ": a grain reaches " + format_value(width) +
+      throw RunStop("'mpirun -np' = " + std::to_string(comm::size()) + " (" + decomposition_.describe() +
+                    "): a grain reaches " + format_value(width) +
                     " m with its contact reach, more than half of a subdomain (" + format_value(shortest) +
-                    " m along " + std::string(1, "xyz"[a]) + "): continue on fewer ranks, or another grid (at this reach the box "
-                    "takes at most " + std::to_string(most[0]) + " along x, " + std::to_string(most[1]) + " along y and " +
+                    " m along " + std::string(1, "xyz"[a]) +
+                    "): continue on fewer ranks, a smaller mpirun -np (at this reach the box takes at most " +
+                    std::to_string(most[0]) + " along x, " + std::to_string(most[1]) + " along y and " +
                     std::to_string(most[2]) + " along z)");
     }
   }

@@ -111,7 +111,7 @@ class PeridemSimulation {
   /// keeps the grains whose centre its subdomain holds, and from then on steps them with ghost copies of the
   /// nodes of other ranks' grains within reach (core/comm/pd_halo). Every owned node's position, velocity
   /// and force are then the bits one process computes (peridem_ranks.cpp says how). `rank_grid`: Px, Py, Pz,
-  /// or zeros for the grid with the least surface. InputError ("run.ranks") when the ranks cannot share the
+  /// or zeros for the grid with the least surface. InputError ("mpirun -np") when the ranks cannot share the
   /// grains: a grain wider than a subdomain allows. The cut is made as at the contact list's last build
   /// (by the positions then), so a system restored from a checkpoint of any rank count continues with the
   /// list, and the bits, it had. Centre-node damping is refused until it is cut among ranks.
