@@ -270,12 +270,18 @@ int Run::start() {
       std::error_code ec;
       fs::create_directories(s.dir, ec);
       if (ec) throw output_error(s.dir.string(), "cannot create the output directory: " + ec.message());
-      // A run killed while writing its checkpoint leaves the unfinished file beside the whole previous one.
-      const fs::path unfinished = s.checkpoint + ".tmp";
-      if (fs::exists(unfinished, ec) && !(plan.restored && fs::equivalent(s.options.restart, unfinished, ec))) {
-        fs::remove(unfinished, ec);
-        std::cout << "removed " << unfinished.string() << ", a checkpoint left unfinished by a run stopped while "
-                  << "writing it" << (ec ? " (failed: " + ec.message() + ")" : std::string()) << "\n";
+      // A run stopped while it wrote a checkpoint leaves checkpoint.h5.tmp beside the previous one. It was
+      // never sealed and renamed, so it is no result: it goes, and the run says so (unless --restart names it).
+      const fs::path stale = s.checkpoint + ".tmp";
+      if (fs::exists(stale, ec) && !(plan.restored && fs::equivalent(s.options.restart, stale, ec))) {
+        std::error_code removing;
+        fs::remove(stale, removing);
+        const bool previous = fs::exists(s.checkpoint, ec);
+        std::cout << (removing ? "could not remove " : "removed ") << stale.string()
+                  << ", a checkpoint left unfinished by a run stopped while writing it ("
+                  << (previous ? "checkpoint.h5 beside it is the last one finished"
+                               : "no checkpoint was finished there")
+                  << (removing ? "): " + removing.message() : ")") << "\n";
       }
     }
     s.cols = model.thermo_columns();
