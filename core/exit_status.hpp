@@ -28,17 +28,17 @@ inline int parse_command_line(CLI::App& app, int argc, char** argv) {
 
 /// Started by mpirun as N > 1 processes, a program that runs as one process would run the whole input N
 /// times over and write the same files: exit 2 on every process before anything is written, the first
-/// one saying why. `runs_on_ranks`: the program's model runs cut among ranks (debris_dem), which an MPI
-/// build allows. Returns -1 to go on. (Counted from the launcher's environment, so it holds before MPI
-/// starts and in a serial build.)
+/// one saying why. `runs_on_ranks`: the program's model runs cut among ranks (debris_dem, debris_peridem),
+/// which an MPI build allows. Returns -1 to go on. (Counted from the launcher's environment, so it holds
+/// before MPI starts and in a serial build.)
 inline int refuse_many_processes(const std::string& program, bool runs_on_ranks = false) {
   const int n = comm::launched_processes();
   if (n <= 1 || (comm::mpi_build() && runs_on_ranks)) return -1;
   if (comm::launched_rank() == 0) {
     std::cerr << program << ": input error: 'mpirun -np' = " << n << ": ";
     if (comm::mpi_build())
-      std::cerr << program << " runs as one process (of debris's executables, debris_dem alone runs on MPI "
-                   "ranks so far); run it without mpirun\n";
+      std::cerr << program << " runs as one process (of debris's executables, debris_dem and debris_peridem "
+                   "run on MPI ranks); run it without mpirun\n";
     else
       std::cerr << "this debris was built without MPI (DEBRIS_MPI=OFF), so each of the " << n
                 << " processes would run the whole input and write the same files; run it as one process "
