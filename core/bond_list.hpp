@@ -35,7 +35,7 @@ class BondList {
   /// checkpoints need not keep it. Mutable because the passes read the bonds as const.
   mutable exec::DeviceVector<double> node_factors;
   /// Scratch of pd_bond_step in host builds on CPUs with AVX2: |y| of every entry, from its dilatation sweep,
-  /// for its force sweep (kernels/peridem/pd_bond_passes.cpp, bond_force_rows_avx2). Sized there; empty otherwise.
+  /// for its force sweep (kernels/peridem/pd_bond_passes_avx2.cpp). Sized there; empty otherwise.
   mutable exec::DeviceVector<double> bond_length;
 
   std::size_t nodes() const { return offset.empty() ? 0 : offset.size() - 1; }

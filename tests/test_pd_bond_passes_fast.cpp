@@ -7,8 +7,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 #include <random>
+#include <sstream>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -314,6 +318,39 @@ TEST(PdBondPassesFast, OnePlaneMeansTheSameFiniteZ) {
   EXPECT_FALSE(check());
   for (double& z : s.nodes.z) z = std::numeric_limits<double>::infinity();
   EXPECT_FALSE(check());
+}
+
+// The portable kernels hold no back-end code: a CPU-specific variant of a pass (intrinsics, target
+// attributes, CPU checks) lives in a file named for its back end (pd_bond_passes_avx2.cpp), which only the
+// builds of that back end compile and pd_bond_step chooses at one point.
+TEST(PdBondPassesLayout, PortableKernelFilesHoldNoBackEndCode) {
+  const std::filesystem::path kernels = std::filesystem::path(DEBRIS_SOURCE_DIR) / "kernels";
+  const std::vector<std::string> back_end_file_suffixes = {"_avx2", "_avx512", "_neon", "_sve"};
+  const std::vector<std::string> back_end_code = {"__attribute__", "immintrin", "x86intrin", "_mm256_", "_mm512_",
+                                                  "_mm_", "__m256", "__m128", "__x86_64__", "__AVX",
+                                                  "__builtin_cpu_supports", "pragma GCC target", "__aarch64__"};
+  const auto read = [](const std::filesystem::path& p) {
+    std::ifstream in(p);
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+  };
+  int portable = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(kernels)) {
+    const std::filesystem::path& p = entry.path();
+    if (p.extension() != ".cpp" && p.extension() != ".hpp") continue;
+    const std::string stem = p.stem().string();
+    const bool back_end = std::any_of(back_end_file_suffixes.begin(), back_end_file_suffixes.end(),
+                                      [&](const std::string& s) { return stem.ends_with(s); });
+    if (back_end) continue;
+    ++portable;
+    const std::string text = read(p);
+    for (const std::string& code : back_end_code)
+      EXPECT_EQ(text.find(code), std::string::npos) << p.string() << " holds back-end code: " << code;
+  }
+  EXPECT_GT(portable, 10);
+  const std::string avx2 = read(kernels / "peridem" / "pd_bond_passes_avx2.cpp");
+  EXPECT_NE(avx2.find("_mm256_"), std::string::npos) << "the AVX2 sweeps live in pd_bond_passes_avx2.cpp";
 }
 
 // ---------------------------------------------------------------------------------------------------------

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -14,12 +13,7 @@
 #include "core/pd_nodes.hpp"
 #include "core/vec3.hpp"
 #include "kernels/peridem/lps_bond_force.hpp"
-
-// Host builds on x86-64 have pd_bond_step's sweeps written with AVX2 intrinsics too (below).
-#if !defined(DEBRIS_OFFLOAD_TARGET) && defined(__x86_64__)
-#include <immintrin.h>
-#define DEBRIS_PD_FETCH_AVX2 1
-#endif
+#include "kernels/peridem/pd_bond_rows.hpp"
 
 namespace debris {
 
@@ -96,17 +90,18 @@ void pd_weighted_volume_pass(const PdLpsTable& lps, const PdGrains& grains, Bond
 
 namespace {
 
+using pd_rows::any_broken;
+using pd_rows::block_row;
+using pd_rows::finish_dilatation_row;
+using pd_rows::kStage;
+using pd_rows::RowInputs;
+
 // Host builds compile the row kernels twice (x86-64 and x86-64-v3: AVX2; DEBRIS_CLONES) and the loader picks
 // the one the machine runs, as kernels/dem/cohesive_contact_half.cpp does (no FMA in this file: both give the
 // same bits). An AVX-512 clone was
 // no faster on the compressive test: its loops take 16 entries per vector, more than half of a typical row
 // (27 entries).
 #define DEBRIS_PD_ROW_CLONES DEBRIS_CLONES
-
-// Bond entries of one row staged per round: a vector loop computes every entry's term into local arrays,
-// then a scalar loop sums them in entry order into 4 partial sums (fixed, so the sums do not depend on the
-// thread count; there is no reduction inside the vector loop).
-constexpr int kStage = 64;
 
 // Host builds hand rows to the kernels in blocks of about equal bond entries (one dispatched call per block,
 // and two threads get equal work although the wall nodes, which have no bonds, all sit at the end). Offload
@@ -116,25 +111,13 @@ int row_blocks(int n, int entries) { return exec::row_blocks(n, entries, kEntrie
 
 DEBRIS_DECLARE_TARGET
 
-// First row of block b of `blocks` (block b is [block_row(b), block_row(b + 1))): the first row whose bond
-// entries start at or after b / blocks of all entries. With blocks == n it is row b.
-inline int block_row(const int* offset, int n, int blocks, int b) {
-  if (b >= blocks) return n;
-  if (blocks == n) return b;
-  const long long target = static_cast<long long>(offset[n]) * b / blocks;
-  int lo = 0, hi = n;
-  while (lo < hi) {
-    const int mid = lo + (hi - lo) / 2;
-    if (offset[mid] < target)
-      lo = mid + 1;
-    else
-      hi = mid;
-  }
-  return lo;
-}
+// The sweeps take a row kStage bond entries a round (pd_bond_rows.hpp), staged: a vector loop computes every
+// entry's term into local arrays, then a scalar loop sums them in entry order into 4 partial sums (fixed, so
+// the sums do not depend on the thread count; there is no reduction inside the vector loop).
 
 // The sum of v[0, count) in 4 running sums, entry t into sum t mod 4, then (s0 + s1) + (s2 + s3): the order
-// of a 4-lane vector accumulator, so the AVX2 sweeps below (which sum in registers) give the same bits.
+// of a 4-lane vector accumulator, so the AVX2 sweeps (pd_bond_passes_avx2.cpp: sums in registers) give the
+// same bits.
 inline double sum4(const double* v, int count) {
   double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
   int t = 0;
@@ -178,26 +161,6 @@ inline int padded_count(int k0, int count, int entries) {
   return k0 + padded <= entries ? padded : count;
 }
 
-// Whether any of entries [k0, k0 + count) is broken (h = 0 in eqs 12-13), whole words of bytes at a time.
-// Most rows have none: their vector loops then compute every entry as intact and nothing is zeroed after.
-inline bool any_broken(const unsigned char* broken, int k0, int count) {
-  unsigned long long any = 0;
-  int t = 0;
-  for (; t + 8 <= count; t += 8) {
-    unsigned long long word;
-    std::memcpy(&word, broken + k0 + t, sizeof word);
-    any |= word;
-  }
-  if (t < count && count >= 8) {  // the last 8 bytes, overlapping the words before: no byte loop
-    unsigned long long word;
-    std::memcpy(&word, broken + k0 + count - 8, sizeof word);
-    any |= word;
-  } else {
-    for (; t < count; ++t) any |= broken[k0 + t];
-  }
-  return any != 0;
-}
-
 // h = 0 of eqs 12-13 applied after a stage's vector loop computed every entry as intact: the staged values
 // of the broken entries among [k0, k0 + count) are set to 0 in the three arrays a, b, c, after a check of the
 // broken bytes a word at a time, which is all a stage without a broken entry costs. (Not a factor inside
@@ -207,43 +170,6 @@ inline void zero_broken(const unsigned char* broken, int k0, int count, double* 
   if (!any_broken(broken, k0, count)) return;
   for (int t = 0; t < count; ++t)
     if (broken[k0 + t]) a[t] = b[t] = c[t] = 0.0;
-}
-
-DEBRIS_END_DECLARE_TARGET
-
-struct RowInputs {
-  const int* offset;
-  const int* partner;
-  const double* length0;
-  const double* weight;   // J V_j of each entry (BondList::weight)
-  unsigned char* broken;  // written by the break step only
-  const int* grain;
-  const int* material;
-  const PdLpsConstants* lps;
-  const double *x, *y, *z, *volume, *m;
-  double* theta;
-  double* factors;  // P_i, Q_i (lps_node_factors), interleaved
-  double* lengths;  // |y| of every entry (BondList::bond_length), or null: written by the break-and-dilatation
-                    // sweep when not null, read by the force sweep, which then fetches with AVX2
-  double *fx, *fy, *fz;
-  int n, blocks, entries;
-  int do_break, do_theta, do_factors;
-  int planar;  // every node has the same z (nodes_in_one_plane): the sweeps skip z
-};
-
-DEBRIS_DECLARE_TARGET
-
-// The end of row i of a dilatation sweep, from its sum over the intact bonds: theta_i of eq 34 (do_theta) and
-// the node factors P_i, Q_i (do_factors), which the force sweep reads. A row without bonds (walls) has none.
-DEBRIS_ALWAYS_INLINE void finish_dilatation_row(const RowInputs& in, int i, const PdLpsConstants* c, double sum) {
-  const double m_i = in.m[i];
-  const double theta_i = c ? lps_dilatation(*c, sum, m_i) : 0.0;
-  if (in.do_theta) in.theta[i] = theta_i;
-  if (in.do_factors) {
-    const LpsNodeFactors f = c ? lps_node_factors(*c, theta_i, m_i) : LpsNodeFactors{};
-    in.factors[2 * i] = f.p;
-    in.factors[2 * i + 1] = f.q;
-  }
 }
 
 // Rows [r0, r1): eq 11 (do_break: mark the intact bonds whose stretch reached s_0; returns the entries
@@ -394,273 +320,6 @@ DEBRIS_PD_ROW_CLONES void bond_force_rows(const RowInputs& in, int r0, int r1) {
     bond_force_body<false>(in, r0, r1);
 }
 
-#if defined(DEBRIS_PD_FETCH_AVX2)
-// Both sweeps of pd_bond_step on CPUs with AVX2 (host builds), written with AVX2 intrinsics, four entries an
-// iteration: the partners' columns fetched by broadcast loads and blends (the compiler's vector loops above
-// insert them lane by lane on the shuffle port), every term kept in registers and summed in 4 lanes (sum4's
-// order) instead of staged in arrays and read back, and |y| handed from the dilatation sweep to the force
-// sweep (BondList::bond_length), so the force sweep takes no square root. Each operation is the one the
-// bodies above write, in their order (this file is built without contraction into FMA, so the compiler keeps
-// theirs as written too): the same bits as the clones, which the separate passes run.
-
-// The helpers and the loop bodies (lambdas) below, inlined into the kernels and built for AVX2 like them.
-#define DEBRIS_AVX2_INLINE __attribute__((target("arch=x86-64-v3"), always_inline))
-
-// Lane l of an iteration over entries [k, k + 4) belongs to the row while l < count - t (lane_index < rest).
-DEBRIS_AVX2_INLINE inline __m256d lanes_below(int rest) {
-  const __m256i lane_index = _mm256_setr_epi64x(0, 1, 2, 3);
-  return _mm256_castsi256_pd(_mm256_cmpgt_epi64(_mm256_set1_epi64x(rest), lane_index));
-}
-
-// Four partners' values of one column: four broadcast loads and three blends (no shuffle port).
-DEBRIS_AVX2_INLINE inline __m256d gather4(const double* a, const long* j) {
-  const __m256d lo = _mm256_blend_pd(_mm256_broadcast_sd(a + j[0]), _mm256_broadcast_sd(a + j[1]), 0b1010);
-  const __m256d hi = _mm256_blend_pd(_mm256_broadcast_sd(a + j[2]), _mm256_broadcast_sd(a + j[3]), 0b1010);
-  return _mm256_blend_pd(lo, hi, 0b1100);
-}
-
-// Entries [k, k + 4) of one iteration: partners and reference lengths. kGuarded: lanes at or past `stop` (the
-// end of the list, or of the rows this thread writes) take entry k's values instead: valid, and never summed
-// or stored.
-struct FourEntries {
-  long j[4];
-  __m256d x0;
-};
-template <bool kGuarded>
-DEBRIS_AVX2_INLINE inline FourEntries four_entries(const int* partner, const double* length0, int k, int stop) {
-  FourEntries f;
-  if (!kGuarded || k + 4 <= stop) {
-    for (int l = 0; l < 4; ++l) f.j[l] = partner[k + l];
-    f.x0 = _mm256_loadu_pd(length0 + k);
-  } else {
-    alignas(32) double x0[4];
-    for (int l = 0; l < 4; ++l) {
-      const int kk = k + l < stop ? k + l : k;
-      f.j[l] = partner[kk];
-      x0[l] = length0[kk];
-    }
-    f.x0 = _mm256_load_pd(x0);
-  }
-  return f;
-}
-
-// Entries [k, k + 4) of a column of doubles. kGuarded: lanes at or past `stop` read as 0 (nothing is read
-// there), or are not written.
-template <bool kGuarded>
-DEBRIS_AVX2_INLINE inline __m256d load_four(const double* a, int k, int stop) {
-  if (!kGuarded || k + 4 <= stop) return _mm256_loadu_pd(a + k);
-  return _mm256_maskload_pd(a + k, _mm256_castpd_si256(lanes_below(stop - k)));
-}
-template <bool kGuarded>
-DEBRIS_AVX2_INLINE inline void store_four(double* a, int k, int stop, __m256d v) {
-  if (!kGuarded || k + 4 <= stop)
-    _mm256_storeu_pd(a + k, v);
-  else
-    _mm256_maskstore_pd(a + k, _mm256_castpd_si256(lanes_below(stop - k)), v);
-}
-
-// All ones in the lanes of entries [k, k + min(rest, 4)) that are not broken (rest > 0).
-DEBRIS_AVX2_INLINE inline __m256d intact_lanes(const unsigned char* broken, int k,
-                                                                           int rest) {
-  int word = 0;
-  if (rest >= 4)
-    std::memcpy(&word, broken + k, sizeof word);
-  else
-    for (int l = 0; l < rest; ++l) word |= broken[k + l] << (8 * l);
-  const __m256i flags = _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(word));
-  return _mm256_castsi256_pd(_mm256_cmpeq_epi64(flags, _mm256_setzero_si256()));
-}
-
-// (v0 + v1) + (v2 + v3): sum4's last step.
-DEBRIS_AVX2_INLINE inline double add_lanes(__m256d v) {
-  alignas(32) double l[4];
-  _mm256_store_pd(l, v);
-  return (l[0] + l[1]) + (l[2] + l[3]);
-}
-
-// A stage's iterations over its `count` entries from k0, iteration.template operator()<kMasked, kGuarded>(t)
-// for t = 0, 4, ...: most stages have no broken entry and all their lanes before `stop`, so only their last
-// iteration is masked and none guarded; the others take the general iteration throughout.
-template <class Iteration>
-DEBRIS_AVX2_INLINE inline void run_stage(Iteration& iteration, int k0, int count, bool any, int stop) {
-  const int full = count & ~3;
-  if (!any && k0 + full + 4 <= stop) {
-    for (int t = 0; t < full; t += 4) iteration.template operator()<false, false>(t);
-    if (full < count) iteration.template operator()<true, false>(full);
-  } else {
-    for (int t = 0; t < count; t += 4) iteration.template operator()<true, true>(t);
-  }
-}
-
-// break_and_dilate_body with in.lengths: |y| of every entry stored there. A row's last iteration stores the
-// |y| its spare lanes compute for the next row's entries, which that row stores again after it; the lanes stop
-// at the end of the block (offset[r1]), where another thread's rows begin.
-template <bool kPlanar>
-__attribute__((target("arch=x86-64-v3"), always_inline)) inline long break_and_dilate_body_avx2(const RowInputs& in,
-                                                                                               int r0, int r1) {
-  const int* __restrict offset = in.offset;
-  const int* __restrict partner = in.partner;
-  const double* __restrict length0 = in.length0;
-  const double* __restrict weight = in.weight;
-  unsigned char* __restrict broken = in.broken;
-  const double* __restrict x = in.x, * __restrict y = in.y, * __restrict z = in.z;
-  double* __restrict lengths = in.lengths;
-  const int may_break = in.do_break;
-  const int stop = offset[r1];
-  const __m256d zero = _mm256_setzero_pd();
-  const __m256d magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
-  const __m256d all_lanes = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
-  long marked = 0;
-  for (int i = r0; i < r1; ++i) {
-    const int begin = offset[i], end = offset[i + 1];
-    if (begin == end) {
-      finish_dilatation_row(in, i, nullptr, 0.0);
-      continue;
-    }
-    const PdLpsConstants c = in.lps[in.material[in.grain[i]]];
-    const __m256d xi = _mm256_set1_pd(x[i]), yi = _mm256_set1_pd(y[i]), zi = _mm256_set1_pd(z[i]);
-    const double s0 = c.critical_stretch;
-    const __m256d near_s0 = _mm256_set1_pd(0.999 * s0);
-    const int in_compression = c.break_in_compression > 0.0;  // the same in every iteration of the row
-    double sum = 0.0;
-    for (int k0 = begin; k0 < end; k0 += kStage) {
-      const int count = end - k0 < kStage ? end - k0 : kStage;
-      const bool any = any_broken(broken, k0, count);
-      __m256d acc = zero;
-      // Entries [k0 + t, k0 + t + 4). kMasked: lanes past the row's count, or broken ones, add nothing;
-      // kGuarded: lanes at or past `stop` are neither read nor written.
-      auto iteration = [&]<bool kMasked, bool kGuarded>(int t) DEBRIS_AVX2_INLINE {
-        const int k = k0 + t;
-        const FourEntries f = four_entries<kGuarded>(partner, length0, k, stop);
-        const __m256d dx = _mm256_sub_pd(gather4(x, f.j), xi), dy = _mm256_sub_pd(gather4(y, f.j), yi);
-        __m256d r2 = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy));
-        if constexpr (!kPlanar) {
-          const __m256d dz = _mm256_sub_pd(gather4(z, f.j), zi);
-          r2 = _mm256_add_pd(r2, _mm256_mul_pd(dz, dz));
-        }
-        const __m256d length = _mm256_sqrt_pd(r2);
-        store_four<kGuarded>(lengths, k, stop, length);
-        const __m256d e = _mm256_sub_pd(length, f.x0);
-        // break_and_dilate_body's e + both (|e| - e) is exactly |e| for both = 1 (e + 2|e| for e < 0), e for both = 0.
-        const __m256d probe = in_compression ? _mm256_and_pd(e, magnitude) : e;
-        const __m256d slack = _mm256_sub_pd(probe, _mm256_mul_pd(near_s0, f.x0));
-        __m256d term = _mm256_mul_pd(_mm256_mul_pd(load_four<kGuarded>(weight, k, stop), f.x0), e);
-        __m256d keep = all_lanes;
-        if constexpr (kMasked) {
-          keep = lanes_below(count - t);
-          if (any) keep = _mm256_and_pd(keep, intact_lanes(broken, k, count - t));
-        }
-        if (may_break) {
-          __m256d is_near = _mm256_cmp_pd(slack, zero, _CMP_GT_OQ);
-          if constexpr (kMasked) is_near = _mm256_and_pd(is_near, keep);
-          const int near = _mm256_movemask_pd(is_near);
-          if (near) {  // eq 11 exactly for the entries near s_0, as break_and_dilate_body tests them
-            alignas(32) double extension[4];
-            alignas(32) long long kept[4];
-            _mm256_store_pd(extension, e);
-            _mm256_store_si256(reinterpret_cast<__m256i*>(kept), _mm256_castpd_si256(keep));
-            for (int l = 0; l < 4; ++l)
-              if ((near >> l & 1) && lps_bond_breaks(extension[l] / length0[k + l], s0, in_compression)) {
-                broken[k + l] = 1;
-                kept[l] = 0;
-                ++marked;
-              }
-            term = _mm256_and_pd(term, _mm256_castsi256_pd(_mm256_load_si256(reinterpret_cast<const __m256i*>(kept))));
-          }
-        }
-        if constexpr (kMasked) term = _mm256_and_pd(term, keep);
-        acc = _mm256_add_pd(acc, term);
-      };
-      run_stage(iteration, k0, count, any, stop);
-      sum += add_lanes(acc);
-    }
-    finish_dilatation_row(in, i, &c, sum);
-  }
-  return marked;
-}
-
-__attribute__((target("arch=x86-64-v3"))) long break_and_dilate_rows_avx2(const RowInputs& in, int r0, int r1) {
-  return in.planar ? break_and_dilate_body_avx2<true>(in, r0, r1) : break_and_dilate_body_avx2<false>(in, r0, r1);
-}
-
-// bond_force_body with |y| read from in.lengths (this step's dilatation sweep).
-template <bool kPlanar>
-__attribute__((target("arch=x86-64-v3"), always_inline)) inline void bond_force_body_avx2(const RowInputs& in, int r0,
-                                                                                         int r1) {
-  const int* __restrict offset = in.offset;
-  const int* __restrict partner = in.partner;
-  const double* __restrict length0 = in.length0;
-  const double* __restrict weight = in.weight;
-  const unsigned char* __restrict broken = in.broken;
-  const double* __restrict x = in.x, * __restrict y = in.y, * __restrict z = in.z;
-  const double* __restrict volume = in.volume;
-  const double* __restrict factors = in.factors;
-  const double* __restrict lengths = in.lengths;
-  double* __restrict fx = in.fx, * __restrict fy = in.fy, * __restrict fz = in.fz;
-  const int stop = in.entries;
-  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
-  for (int i = r0; i < r1; ++i) {
-    const int begin = offset[i], end = offset[i + 1];
-    if (begin == end) continue;
-    const __m256d xi = _mm256_set1_pd(x[i]), yi = _mm256_set1_pd(y[i]), zi = _mm256_set1_pd(z[i]);
-    const __m256d p_i = _mm256_set1_pd(factors[2 * i]), q_i = _mm256_set1_pd(factors[2 * i + 1]);
-    double Fx = 0.0, Fy = 0.0, Fz = 0.0;
-    for (int k0 = begin; k0 < end; k0 += kStage) {
-      const int count = end - k0 < kStage ? end - k0 : kStage;
-      const bool any = any_broken(broken, k0, count);
-      __m256d ax = zero, ay = zero, az = zero;
-      // Entries [k0 + t, k0 + t + 4); kMasked, kGuarded as in break_and_dilate_body_avx2.
-      auto iteration = [&]<bool kMasked, bool kGuarded>(int t) DEBRIS_AVX2_INLINE {
-        const int k = k0 + t;
-        const FourEntries f = four_entries<kGuarded>(partner, length0, k, stop);
-        // Every partner column first, while the partner indices are in registers.
-        const __m256d x_j = gather4(x, f.j), y_j = gather4(y, f.j);
-        const __m256d z_j = kPlanar ? zero : gather4(z, f.j);
-        // P, Q of two partners per 128-bit load, then one unpack each for the P and the Q of four.
-        const __m256d pq02 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(factors + 2 * f.j[0])),
-                                                  _mm_loadu_pd(factors + 2 * f.j[2]), 1);
-        const __m256d pq13 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(factors + 2 * f.j[1])),
-                                                  _mm_loadu_pd(factors + 2 * f.j[3]), 1);
-        const __m256d p_sum = _mm256_add_pd(p_i, _mm256_unpacklo_pd(pq02, pq13));
-        const __m256d q_sum = _mm256_add_pd(q_i, _mm256_unpackhi_pd(pq02, pq13));
-        const __m256d length = load_four<kGuarded>(lengths, k, stop);
-        // bond_force_scale: eq 12's (J V_j (P x0 + Q e)) / |y|; 1 / |y| is bond_force_scale's for |y| > 0
-        // (1 / (|y| + 0)), and a lane with |y| = 0 (no direction) is masked to s = 0 below, as its 1 / |y| = 0 does.
-        const __m256d inv_length = _mm256_div_pd(one, length);
-        const __m256d e = _mm256_sub_pd(length, f.x0);
-        const __m256d bracket = _mm256_add_pd(_mm256_mul_pd(p_sum, f.x0), _mm256_mul_pd(q_sum, e));
-        __m256d s = _mm256_mul_pd(_mm256_mul_pd(load_four<kGuarded>(weight, k, stop), bracket), inv_length);
-        // Spare and broken lanes add s 0 = 0 (dx is finite: a position), as zero_broken's zeros do.
-        __m256d keep = _mm256_cmp_pd(length, zero, _CMP_GT_OQ);
-        if constexpr (kMasked) {
-          keep = _mm256_and_pd(keep, lanes_below(count - t));
-          if (any) keep = _mm256_and_pd(keep, intact_lanes(broken, k, count - t));
-        }
-        s = _mm256_and_pd(s, keep);
-        ax = _mm256_add_pd(ax, _mm256_mul_pd(s, _mm256_sub_pd(x_j, xi)));
-        ay = _mm256_add_pd(ay, _mm256_mul_pd(s, _mm256_sub_pd(y_j, yi)));
-        if constexpr (!kPlanar) az = _mm256_add_pd(az, _mm256_mul_pd(s, _mm256_sub_pd(z_j, zi)));
-      };
-      run_stage(iteration, k0, count, any, stop);
-      Fx += add_lanes(ax);
-      Fy += add_lanes(ay);
-      if constexpr (!kPlanar) Fz += add_lanes(az);
-    }
-    // Eq 33 is a force density; the node carries V_i of it.
-    fx[i] += volume[i] * Fx;
-    fy[i] += volume[i] * Fy;
-    if constexpr (!kPlanar) fz[i] += volume[i] * Fz;
-  }
-}
-
-__attribute__((target("arch=x86-64-v3"))) void bond_force_rows_avx2(const RowInputs& in, int r0, int r1) {
-  if (in.planar)
-    bond_force_body_avx2<true>(in, r0, r1);
-  else
-    bond_force_body_avx2<false>(in, r0, r1);
-}
-#endif
-
 DEBRIS_END_DECLARE_TARGET
 
 // Whether every node has the same finite z: a 2D deck, whose nodes lie in a plane z = const (the input files
@@ -727,13 +386,13 @@ RowInputs row_inputs_with_outputs(const PdLpsTable& lps, const PdGrains& grains,
   const double *length0 = h.length0, *weight = h.weight, *x = h.x, *y = h.y, *z = h.z, *volume = h.volume, *m = h.m;           \
   const PdLpsConstants* lps = h.lps;                                                                       \
   unsigned char* broken = h.broken;                                                                        \
-  double *theta = h.theta, *factors = h.factors, *lengths = h.lengths, *fx = h.fx, *fy = h.fy, *fz = h.fz; \
+  double *theta = h.theta, *factors = h.factors, *fx = h.fx, *fy = h.fy, *fz = h.fz; \
   const int n = h.n, blocks = h.blocks, entries = h.entries;                                               \
   const int do_break = h.do_break, do_theta = h.do_theta, do_factors = h.do_factors, planar = h.planar
 
 #define DEBRIS_PD_ROW_INPUTS                                                                                         \
   RowInputs {                                                                                                        \
-    offset, partner, length0, weight, broken, grain, material, lps, x, y, z, volume, m, theta, factors, lengths, fx, fy, fz, \
+    offset, partner, length0, weight, broken, grain, material, lps, x, y, z, volume, m, theta, factors, fx, fy, fz, \
         n, blocks, entries, do_break, do_theta, do_factors, planar                                                   \
   }
 
@@ -744,12 +403,6 @@ long run_break_and_dilate(const RowInputs& host) {
   DEBRIS_KERNEL_SUM(marked)
   for (int b = 0; b < blocks; ++b) {
     const RowInputs in = DEBRIS_PD_ROW_INPUTS;
-#if defined(DEBRIS_PD_FETCH_AVX2)
-    if (lengths) {
-      marked += break_and_dilate_rows_avx2(in, block_row(offset, n, blocks, b), block_row(offset, n, blocks, b + 1));
-      continue;
-    }
-#endif
     marked += break_and_dilate_rows(in, block_row(offset, n, blocks, b), block_row(offset, n, blocks, b + 1));
   }
   return marked;
@@ -761,12 +414,6 @@ void run_bond_force(const RowInputs& host) {
   DEBRIS_KERNEL
   for (int b = 0; b < blocks; ++b) {
     const RowInputs in = DEBRIS_PD_ROW_INPUTS;
-#if defined(DEBRIS_PD_FETCH_AVX2)
-    if (lengths) {
-      bond_force_rows_avx2(in, block_row(offset, n, blocks, b), block_row(offset, n, blocks, b + 1));
-      continue;
-    }
-#endif
     bond_force_rows(in, block_row(offset, n, blocks, b), block_row(offset, n, blocks, b + 1));
   }
 }
@@ -816,18 +463,15 @@ long pd_bond_step(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds
   RowInputs in = row_inputs_with_outputs(lps, grains, bonds, nodes);
   in.broken = bonds.broken.data();
   in.do_break = in.do_theta = in.do_factors = 1;
-#if defined(DEBRIS_PD_FETCH_AVX2)
-  // |y| kept from the dilatation sweep for the force sweep's AVX2 fetch, on CPUs that have it.
-  static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  if (avx2) {
-    bonds.bond_length.resize(bonds.entries());
-    in.lengths = bonds.bond_length.data();
-  }
-#endif
+  // The one choice of back end: the same sweeps written with AVX2 intrinsics where the build has them and the
+  // CPU runs them (pd_bond_passes_avx2.cpp), the same bits faster.
+  static const pd_rows::BondStepSweeps avx2 = pd_rows::avx2_bond_step_sweeps();
+  if (avx2) return avx2(in, bonds) / 2;
   const long broke = run_break_and_dilate(in) / 2;
   run_bond_force(in);
   return broke;
 }
+
 
 void pd_damage_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                     PdNodes& nodes, double* broken_fraction) {

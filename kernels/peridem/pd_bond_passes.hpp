@@ -19,11 +19,12 @@
 // (lps_node_factors, kept in BondList::node_factors): one division per entry (1 / |y|) where eqs 7 and 33
 // written out take four; each entry's J V_j is kept from the reference state (BondList::weight, written by
 // pd_weighted_volume_pass), so no sweep fetches V_j or evaluates J.
-// In pd_bond_step on x86 CPUs with AVX2 (host builds) both sweeps are written with AVX2 intrinsics: four
-// entries an iteration, the partners' columns fetched by broadcast loads and blends, every term summed in
-// registers in the same 4-sum order, and |y| handed from the dilatation sweep to the force sweep
-// (BondList::bond_length, 8 B an entry), which then takes no square root: the same operations in the same
-// order as the compiler's loops, so the same bits (scenarios/peridem/RESULTS.md, section 9).
+// On x86-64 CPUs with AVX2 and FMA, host builds run pd_bond_step's sweeps written with AVX2 intrinsics
+// (kernels/peridem/pd_bond_passes_avx2.cpp, chosen in pd_bond_step): four entries an iteration, the
+// partners' columns fetched by broadcast loads and blends, every term summed in registers in the same 4-sum
+// order, and |y| handed from the dilatation sweep to the force sweep (BondList::bond_length, 8 B an entry),
+// which then takes no square root: the same operations in the same order as the compiler's loops, so the same
+// bits (scenarios/peridem/RESULTS.md, section 9).
 // When every node has the same z (a 2D deck; pd_nodes_in_one_plane) the sweeps skip z: dz = 0 exactly, so
 // the bits are those of the 3D sweeps, with one column fewer to fetch per entry (a PeriDEM step 1.2x faster
 // on the 502-grain deck, README "The Intel kind again").
