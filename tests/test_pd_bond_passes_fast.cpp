@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <limits>
 #include <random>
 #include <sstream>
@@ -194,8 +195,38 @@ Snapshot snapshot(const System& s, long broke) {
   return {s.nodes.theta, s.nodes.fx, s.nodes.fy, s.nodes.fz, s.bonds.broken, broke};
 }
 
+/// Whether pd_bond_step must run its AVX2 sweeps here: a host build on an x86-64 CPU with AVX2 and FMA
+/// (kernels/peridem/pd_bond_passes_avx2.cpp).
+bool avx2_sweeps_expected() {
+#if defined(__x86_64__)
+  return !exec::offload_build() && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#else
+  return false;
+#endif
+}
+
+/// Which sweeps the pd_bond_step calls since `before` ran, "AVX2" or "portable", said on the test's output
+/// and in its XML report; fails if they were not the ones this build and CPU must run (AVX2 where
+/// avx2_sweeps_expected), or if any call ran the other ones.
+std::string sweeps_ran_since(const PdBondStepCounts& before, long long calls) {
+  const PdBondStepCounts after = pd_bond_step_counts();
+  const long long avx2 = after.avx2 - before.avx2, portable = after.portable - before.portable;
+  EXPECT_EQ(avx2 + portable, calls) << "pd_bond_step calls counted";
+  const std::string ran = avx2 == calls ? "AVX2" : portable == calls ? "portable" : "mixed";
+  ::testing::Test::RecordProperty("pd_bond_step_sweeps", ran);
+  std::cout << "[ sweeps   ] pd_bond_step ran the " << ran << " sweeps (" << avx2 << " AVX2, " << portable
+            << " portable calls); this CPU and build " << (avx2_sweeps_expected() ? "run" : "do not run")
+            << " the AVX2 ones\n";
+  if (avx2_sweeps_expected())
+    EXPECT_EQ(avx2, calls) << "an x86-64 CPU with AVX2 and FMA: pd_bond_step must run the AVX2 sweeps";
+  else
+    EXPECT_EQ(portable, calls) << "no AVX2 sweeps in this build or on this CPU: pd_bond_step must run the portable ones";
+  return ran;
+}
+
 // On CPUs with AVX2 pd_bond_step runs its own sweeps (intrinsics), the separate passes the compiler's vector
-// loops: equal bits, for either breaking rule.
+// loops: equal bits, for either breaking rule. The test says which sweeps pd_bond_step ran, and fails on such a
+// CPU if they were not the AVX2 ones (else it would compare the portable sweeps with themselves).
 class PdBondPassesFastRule : public ::testing::TestWithParam<bool> {};
 
 TEST_P(PdBondPassesFastRule, FusedStepEqualsTheSeparatePassesBitForBitOnAnyThreadCount) {
@@ -204,6 +235,7 @@ TEST_P(PdBondPassesFastRule, FusedStepEqualsTheSeparatePassesBitForBitOnAnyThrea
   exec::set_threads(1);
   System fused = make_system(in_compression), separate = make_system(in_compression), two = make_system(in_compression);
   for (System* s : {&fused, &separate, &two}) deform(*s, 11, in_compression);
+  const PdBondStepCounts before = pd_bond_step_counts();
   const Snapshot a = snapshot(fused, test::pd_bond_step(fused.lps, fused.grains, fused.bonds, fused.nodes));
   const long broke = test::break_bonds_reference(separate.lps, separate.grains, separate.bonds, separate.nodes);
   test::pd_dilatation_pass(separate.lps, separate.grains, separate.bonds, separate.nodes);
@@ -212,9 +244,10 @@ TEST_P(PdBondPassesFastRule, FusedStepEqualsTheSeparatePassesBitForBitOnAnyThrea
   exec::set_threads(2);
   const Snapshot c = snapshot(two, test::pd_bond_step(two.lps, two.grains, two.bonds, two.nodes));
   exec::set_threads(saved);
+  const std::string sweeps = sweeps_ran_since(before, 2);
   EXPECT_GT(a.broke, 0);
-  EXPECT_TRUE(a == b) << "pd_bond_step differs from break + dilatation + force";
-  EXPECT_TRUE(a == c) << "pd_bond_step differs between 1 and 2 threads";
+  EXPECT_TRUE(a == b) << "pd_bond_step (" << sweeps << " sweeps) differs from break + dilatation + force";
+  EXPECT_TRUE(a == c) << "pd_bond_step (" << sweeps << " sweeps) differs between 1 and 2 threads";
   // Under the compression rule, bonds shortened past s_0 broke too (none would under eq 11 alone).
   long compressed = 0;
   const BondList& bonds = fused.bonds;

@@ -1,6 +1,7 @@
 #include "kernels/peridem/pd_bond_passes.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -421,6 +422,9 @@ void run_bond_force(const RowInputs& host) {
 #undef DEBRIS_PD_ROW_LOCALS
 #undef DEBRIS_PD_ROW_INPUTS
 
+// pd_bond_step's calls by the sweeps they ran (pd_bond_step_counts).
+std::atomic<long long> portable_steps{0}, avx2_steps{0};
+
 }  // namespace
 
 bool pd_nodes_in_one_plane(const PdNodes& nodes) {
@@ -466,12 +470,19 @@ long pd_bond_step(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds
   // The one choice of back end: the same sweeps written with AVX2 intrinsics where the build has them and the
   // CPU runs them (pd_bond_passes_avx2.cpp), the same bits faster.
   static const pd_rows::BondStepSweeps avx2 = pd_rows::avx2_bond_step_sweeps();
-  if (avx2) return avx2(in, bonds) / 2;
+  if (avx2) {
+    avx2_steps.fetch_add(1, std::memory_order_relaxed);
+    return avx2(in, bonds) / 2;
+  }
+  portable_steps.fetch_add(1, std::memory_order_relaxed);
   const long broke = run_break_and_dilate(in) / 2;
   run_bond_force(in);
   return broke;
 }
 
+PdBondStepCounts pd_bond_step_counts() {
+  return {portable_steps.load(std::memory_order_relaxed), avx2_steps.load(std::memory_order_relaxed)};
+}
 
 void pd_damage_pass(const PdLpsTable& lps, const PdGrains& grains, const BondList& bonds,
                     PdNodes& nodes, double* broken_fraction) {

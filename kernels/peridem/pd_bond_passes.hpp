@@ -67,6 +67,15 @@ void pd_bond_force_pass(const PdLpsTable& lps, const PdGrains& grains, const Bon
 /// in this step: the runner rebuilds the contact list when it is > 0 (broken bonds contact).
 long pd_bond_step(const PdLpsTable& lps, const PdGrains& grains, BondList& bonds, PdNodes& nodes);
 
+/// How many pd_bond_step calls of this process ran which sweeps: the portable ones (pd_bond_passes.cpp) or
+/// the same written with AVX2 intrinsics (pd_bond_passes_avx2.cpp), which x86-64 host builds run on CPUs
+/// with AVX2 and FMA. The tests read it to say which sweeps they compared, and to fail on such a CPU if the
+/// AVX2 sweeps did not run.
+struct PdBondStepCounts {
+  long long portable = 0, avx2 = 0;
+};
+PdBondStepCounts pd_bond_step_counts();
+
 /// True when every node has the same finite z (a 2D deck: the inputs put its nodes at z = 0), which the bond
 /// passes check on each call; they then leave z out of |y| and the force (no z component: it is exactly 0).
 bool pd_nodes_in_one_plane(const PdNodes& nodes);
