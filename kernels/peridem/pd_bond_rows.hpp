@@ -14,10 +14,6 @@ class BondList;
 
 namespace pd_rows {
 
-// Bond entries of one row taken per round (staged in local arrays by the portable sweeps, summed in registers
-// by the AVX2 ones).
-constexpr int kStage = 64;
-
 struct RowInputs {
   const int* offset;
   const int* partner;
@@ -37,6 +33,10 @@ struct RowInputs {
 };
 
 DEBRIS_DECLARE_TARGET
+
+// Bond entries of one row taken per round (staged in local arrays by the portable sweeps, summed in registers
+// by the AVX2 ones).
+constexpr int kStage = 64;
 
 // First row of block b of `blocks` (block b is [block_row(b), block_row(b + 1))): the first row whose bond
 // entries start at or after b / blocks of all entries. With blocks == n it is row b.
