@@ -220,7 +220,8 @@ std::string sweeps_ran_since(const PdBondStepCounts& before, long long calls) {
   if (avx2_sweeps_expected())
     EXPECT_EQ(avx2, calls) << "an x86-64 CPU with AVX2 and FMA: pd_bond_step must run the AVX2 sweeps";
   else
-    EXPECT_EQ(portable, calls) << "no AVX2 sweeps in this build or on this CPU: pd_bond_step must run the portable ones";
+    EXPECT_EQ(portable, calls) << "no AVX2 sweeps in this build or on this CPU: pd_bond_step must run the portable "
+                                  "ones";
   return ran;
 }
 
