@@ -90,11 +90,16 @@ struct CalibrationStep {
 
 struct CalibrationResult {
   CohesiveMaterial inputs;      // the calibrated inputs (E scaled onto the target)
-  CalibrationMeasure expected;  // what they measure by the scaling of idea 1 (the last step's ratios)
+  CalibrationMeasure expected;  // what they measure: the last step's measures when converged, else by idea 1
+  // True when `expected` was measured on `inputs` themselves; false when it is a step's measures scaled
+  // onto the target's E by idea 1, inputs that no run has tried.
+  bool expected_measured = false;
   std::vector<CalibrationStep> steps;
   int runs = 0;
   bool converged = false;
-  std::string why;  // when not converged: which target is out of reach or was not met, and what limits it
+  // When not converged: which target is out of reach or was not met and what limits it, or, when the
+  // answer meets every target by idea 1 alone, that the run confirming it did not fit in max_runs.
+  std::string why;
   TensionInput tension_input = TensionInput::tensile_strength;
 };
 

@@ -1,11 +1,12 @@
 // debris_calibrate: the cohesive DEM's material inputs whose amorphous sample measures the properties a user
 // wants (E, nu, tensile and shear strength), found with the patch tests (issue 29; the method is in
-// calibration.hpp). Writes <output>/calibration.csv (one row per step: inputs, measures, errors, runs) and
-// <output>/spread.csv (the calibrated inputs on the other seeds, so a user knows what "within 2%" means
-// for one sample), and prints the calibrated inputs as a `material:` block for debris_dem. Exit status 0
-// when every target is met, 2 for bad input or a target out of reach (named, with the closest reachable
-// value), 3 when the runs were spent first.
+// calibration.hpp). Writes <output>/calibration.csv (one row per step: inputs, measures, errors, runs) and <output>/spread.csv (the calibrated inputs on the other seeds, so a
+// user knows what "within 2%" means for one sample), and prints the calibrated inputs as a `material:` block
+// for debris_dem. Exit status 0 when a run of the inputs printed met every target, 2 for bad input or a
+// target out of reach (named, with the closest reachable value), 3 when the runs were spent first (also
+// when the answer meets the targets only by a rescale of E that no run confirmed).
 #include <CLI/CLI.hpp>
+#include <charconv>
 #include <chrono>
 #include <filesystem>
 #include <iomanip>
@@ -91,6 +92,11 @@ std::vector<double> row(double step, int runs, bool collapsed, const CohesiveMat
           m.tensile_strength, m.shear_strength, e[0], e[1], e[2], e[3], m.relaxed_fraction, m.seconds};
 }
 
+std::string shortest(double v) {
+  char buf[32];
+  return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+}
+
 void print_measure(const char* what, const CalibrationMeasure& m, const CohesiveMaterial& target) {
   const auto e = calibration_errors(target, m);
   std::cout << std::setprecision(5) << what << ": E " << m.youngs_modulus << " (" << std::showpos << 100 * e[0]
@@ -129,14 +135,25 @@ int run(const Options& opt) {
     std::cout.flush();  // a step is a minute of patch runs: show it as it comes, in a pipe or a log too
   });
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!(r.inputs.youngs_modulus > 0)) {  // no step made a sample: no inputs to give, none to spread
+    std::cout << "\nno calibrated inputs after " << r.runs << " patch runs\nrows: " << (dir / "calibration.csv").string()
+              << "\n";
+    std::cerr << "debris_calibrate: " << r.why << "\n";
+    return kExitUnfinished;
+  }
   const CohesiveMaterial& in = r.inputs;
+  // Each input in the fewest digits that read back as the same double: a copy of the block runs the very
+  // inputs the calibration found (a fracture's path can move by a percent under a change in the 9th digit).
   std::cout << std::setprecision(6) << "\ncalibrated inputs after " << r.runs << " patch runs, " << std::setprecision(3)
             << wall << " s:\nmaterial:\n"
-            << std::setprecision(8) << "  youngs_modulus: " << in.youngs_modulus << "\n  poisson_ratio: "
-            << in.poisson_ratio << "\n  tensile_strength: " << in.tensile_strength << "\n  shear_strength: "
-            << in.shear_strength << "\n  surface_energy: " << in.surface_energy << "\n  restitution: "
-            << in.restitution << "\n  density: " << in.density << "\n  scaling: " << in.scaling << "\n";
-  print_measure("they measure", r.expected, spec.target);
+            << "  youngs_modulus: " << shortest(in.youngs_modulus) << "\n  poisson_ratio: "
+            << shortest(in.poisson_ratio) << "\n  tensile_strength: " << shortest(in.tensile_strength)
+            << "\n  shear_strength: " << shortest(in.shear_strength) << "\n  surface_energy: "
+            << shortest(in.surface_energy) << "\n  restitution: " << shortest(in.restitution)
+            << "\n  density: " << shortest(in.density) << "\n  scaling: " << shortest(in.scaling) << "\n";
+  print_measure(r.expected_measured ? "they measure" : "they should measure (a step's measures with E scaled onto "
+                                                       "the target; these inputs were not run)",
+                r.expected, spec.target);
 
   // The spread: the calibrated inputs on samples of other seeds.
   ThermoCsv spread((dir / "spread.csv").string(), kColumns);
