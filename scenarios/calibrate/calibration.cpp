@@ -90,6 +90,58 @@ void set_tension_value(TensionInput t, CohesiveMaterial& m, double v) {
   (t == TensionInput::tensile_strength ? m.tensile_strength : m.surface_energy) = v;
 }
 
+// Why the calibration stops at a sample that did not relax (the last of `steps`). The relaxation depends on
+// nu and the tension input as ratios to E (sigma_T has no part in it, and E only scales it: idea 1), so
+// the target behind it is the one whose input this step moved from the last sample that relaxed, or, at
+// the first step, the targets' own inputs.
+std::string did_not_relax(const CalibrationSpec& spec, TensionInput knob, const std::vector<CalibrationStep>& steps,
+                          const RelaxationStalled& e) {
+  const CohesiveMaterial& t = spec.target;
+  const CohesiveMaterial& now = steps.back().inputs;
+  const CalibrationStep* before = nullptr;
+  std::size_t before_index = 0;
+  for (std::size_t k = 0; k + 1 < steps.size(); ++k)
+    if (!steps[k].collapsed && !steps[k].stalled) {
+      before = &steps[k];
+      before_index = k + 1;
+    }
+  const std::string key = tension_input_key(knob);
+  auto ratio = [&](const CohesiveMaterial& m) { return tension_value(knob, m) / m.youngs_modulus; };
+  std::string what = "the sample did not relax with these targets: in step " + std::to_string(steps.size()) + " ";
+  std::string target;
+  if (!before) {
+    what += "(the targets' own inputs)";
+    target = "tensile_strength " + format_value(t.tensile_strength) + " (" +
+             format_value(t.tensile_strength / t.youngs_modulus) + " of E), with surface_energy " +
+             format_value(t.surface_energy) + " and poisson_ratio " + format_value(t.poisson_ratio);
+  } else if (ratio(before->inputs) != ratio(now)) {
+    const CalibrationMeasure& m = before->measured;
+    what += "the input " + key + " was " + format_value(tension_value(knob, now)) + ", moved " +
+            (ratio(now) < ratio(before->inputs) ? "down" : "up") + " from " +
+            format_value(tension_value(knob, before->inputs)) + " in step " + std::to_string(before_index) +
+            ", whose sample measured a tension of " +
+            format_value(m.tensile_strength / m.youngs_modulus * t.youngs_modulus) + " with E on target";
+    target = "tensile_strength " + format_value(t.tensile_strength) + " (" +
+             format_value(t.tensile_strength / t.youngs_modulus) + " of E)";
+  } else if (before->inputs.poisson_ratio != now.poisson_ratio) {
+    what += "the input poisson_ratio was " + format_value(now.poisson_ratio) + ", moved from " +
+            format_value(before->inputs.poisson_ratio) + " in step " + std::to_string(before_index) +
+            ", whose sample measured " + format_value(before->measured.poisson_ratio);
+    target = "poisson_ratio " + format_value(t.poisson_ratio);
+  } else {
+    what += "the inputs were step " + std::to_string(before_index) + "'s with every stress scaled to put E on target";
+    target = "youngs_modulus " + format_value(t.youngs_modulus) + " (E only scales the relaxation: the same "
+             "packing as step " + std::to_string(before_index) + "'s but for rounding)";
+  }
+  what += ", and phase 2 of the relaxation left a stress of " + format_value(e.max_stress) + " E after " +
+          std::to_string(e.steps) + " steps (relaxation.phase2.max_steps), above its threshold " +
+          format_value(spec.sample.stress_threshold) + " E; the target that drives it is " + target;
+  if (e.best_step == e.steps)
+    what += ". The stress was still falling: a larger relaxation.phase2.max_steps in the input's relaxation "
+            "section may let it finish";
+  return what;
+}
+
 }  // namespace
 
 void CalibrationSpec::validate() const {
@@ -200,6 +252,7 @@ CalibrationResult calibrate(const CalibrationSpec& spec, const std::function<voi
     CohesiveMaterial inputs;  // exactly, so that an input kept is bit for bit the same (and so the sample)
   };
   std::vector<Point> good;
+  std::optional<RelaxationStalled> stall;
 
   for (;;) {
     const auto t0 = Clock::now();
@@ -227,6 +280,10 @@ CalibrationResult calibrate(const CalibrationSpec& spec, const std::function<voi
     } catch (const SampleCollapse&) {
       step.collapsed = true;
       sample.reset();
+    } catch (const RelaxationStalled& e) {
+      step.stalled = true;
+      sample.reset();
+      stall = e;
     }
     step.measured.seconds = seconds_since(t0);
     result.runs += step.runs_this_step;
@@ -234,6 +291,10 @@ CalibrationResult calibrate(const CalibrationSpec& spec, const std::function<voi
     result.steps.push_back(step);
     if (report) report(step);
 
+    if (step.stalled) {
+      result.why = did_not_relax(spec, knob, result.steps, *stall);
+      break;
+    }
     if (step.collapsed) {
       edge_bad = std::min(edge_bad, log_k);
       if (good.empty()) {
@@ -342,7 +403,7 @@ CalibrationResult calibrate(const CalibrationSpec& spec, const std::function<voi
   };
   const CalibrationStep* best = nullptr;
   for (const auto& st : result.steps)
-    if (!st.collapsed && (!tension_out_of_reach || tension_value(knob, st.inputs) == most_t_input) &&
+    if (!st.collapsed && !st.stalled && (!tension_out_of_reach || tension_value(knob, st.inputs) == most_t_input) &&
         (!best || worst(st) <= worst(*best)))
       best = &st;
   double lambda = 1;

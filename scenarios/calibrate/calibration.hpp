@@ -77,7 +77,8 @@ struct CalibrationMeasure {
 };
 
 /// Relaxes the sample of `spec` with `inputs` (seed: spec.sample.seed) and runs the three tests.
-/// SampleCollapse when the relaxation pulls the packing in without end.
+/// SampleCollapse when the relaxation pulls the packing in without end, RelaxationStalled when it does not
+/// come to rest within relaxation.phase2.max_steps.
 CalibrationMeasure measure_sample(const CalibrationSpec& spec, const CohesiveMaterial& inputs);
 
 struct CalibrationStep {
@@ -86,6 +87,7 @@ struct CalibrationStep {
   int runs = 0;                // patch runs so far, this step's included
   int runs_this_step = 0;      // 0 when the sample collapsed, 2 when only sigma_T changed, else 3
   bool collapsed = false;
+  bool stalled = false;        // the relaxation did not come to rest within relaxation.phase2.max_steps
 };
 
 struct CalibrationResult {
@@ -104,8 +106,9 @@ struct CalibrationResult {
 };
 
 /// Finds the inputs (validate() first). Stops when every target is within its tolerance, when max_runs
-/// patch runs are spent, or when a target is out of reach (`why` names the closest reachable value and
-/// the input that limits it). `report` (may be empty) is called after each step.
+/// patch runs are spent, when a target is out of reach (`why` names the closest reachable value and
+/// the input that limits it), or when a sample does not relax (`why` names the target whose input the
+/// step moved). `report` (may be empty) is called after each step.
 CalibrationResult calibrate(const CalibrationSpec& spec,
                             const std::function<void(const CalibrationStep&)>& report = {});
 

@@ -1,10 +1,11 @@
 // debris_calibrate: the cohesive DEM's material inputs whose amorphous sample measures the properties a user
 // wants (E, nu, tensile and shear strength), found with the patch tests (issue 29; the method is in
-// calibration.hpp). Writes <output>/calibration.csv (one row per step: inputs, measures, errors, runs) and <output>/spread.csv (the calibrated inputs on the other seeds, so a
+// calibration.hpp). Writes <output>/calibration.csv (one row per step that made or collapsed a sample:
+// inputs, measures, errors, runs) and <output>/spread.csv (the calibrated inputs on the other seeds, so a
 // user knows what "within 2%" means for one sample), and prints the calibrated inputs as a `material:` block
 // for debris_dem. Exit status 0 when a run of the inputs printed met every target, 2 for bad input or a
 // target out of reach (named, with the closest reachable value), 3 when the runs were spent first (also
-// when the answer meets the targets only by a rescale of E that no run confirmed).
+// when the answer meets the targets only by a rescale of E that no run confirmed) or a sample did not relax.
 #include <CLI/CLI.hpp>
 #include <charconv>
 #include <chrono>
@@ -123,9 +124,16 @@ int run(const Options& opt) {
             << " x " << spec.sample.width << " d0, seed " << spec.sample.seed << ")\n"
             << "the tension moves with the input " << tension_input_key(tension_input(spec)) << std::endl;
   const CalibrationResult r = calibrate(spec, [&](const CalibrationStep& s) {
-    csv.write_row(row(++index, s.runs, s.collapsed, s.inputs, s.measured, spec.target));
+    ++index;
+    if (!s.stalled) csv.write_row(row(index, s.runs, s.collapsed, s.inputs, s.measured, spec.target));
     std::cout << "step " << index << " (" << s.runs << " patch runs): ";
-    if (s.collapsed)
+    if (s.stalled)
+      std::cout << std::setprecision(5) << "nu " << s.inputs.poisson_ratio << ", "
+                << tension_input_key(tension_input(spec)) << " "
+                << (tension_input(spec) == TensionInput::tensile_strength ? s.inputs.tensile_strength
+                                                                          : s.inputs.surface_energy)
+                << ": the sample did not relax\n";
+    else if (s.collapsed)
       std::cout << std::setprecision(5) << tension_input_key(tension_input(spec)) << " "
                 << (tension_input(spec) == TensionInput::tensile_strength ? s.inputs.tensile_strength
                                                                           : s.inputs.surface_energy)

@@ -371,7 +371,10 @@ long relax_phase2(DemSimulation& sim, const AmorphousSpec& spec, const Amorphous
       if (spec.include_shear && max_stress_component(stress, E, false) < spec.stress_threshold)
         os << " (only shear stresses are left above it, and the orthogonal periodic box cannot relax those: set "
               "relaxation.phase2.include_shear: false)";
-      throw input_error("relaxation.phase2.max_steps", std::to_string(spec.phase2_max_steps), os.str());
+      throw RelaxationStalled(input_error("relaxation.phase2.max_steps", std::to_string(spec.phase2_max_steps),
+                                          os.str())
+                                  .what(),
+                              s, m, best, best_step);
     }
     // The box rule of the header: a stretched sample (sigma > 0) shrinks its box, a compressed one grows it.
     const double sig[3] = {stress.xx, stress.yy, stress.zz};

@@ -52,6 +52,7 @@
 #include <string>
 
 #include "core/box.hpp"
+#include "core/error.hpp"
 #include "core/particles.hpp"
 #include "kernels/dem/cohesive_material.hpp"
 #include "kernels/dem/virial_stress.hpp"
@@ -186,8 +187,20 @@ struct SampleCollapse : std::runtime_error {
   double volume_fraction;
 };
 
-/// Phase 2: runs with the moving box until the criterion holds. Returns the steps taken. Throws InputError
-/// naming relaxation.phase2.max_steps (with the stress reached) when it does not hold within the limit, or
+/// Phase 2 did not bring the stresses below the threshold within phase2_max_steps. An InputError naming
+/// relaxation.phase2.max_steps (with the stress reached) where the user chose the material; a caller that
+/// chose it itself (the calibration) catches it to say which of its inputs the sample did not relax with.
+struct RelaxationStalled : InputError {
+  RelaxationStalled(const std::string& what, long steps, double max_stress, double best_stress, long best_step)
+      : InputError(what), steps(steps), max_stress(max_stress), best_stress(best_stress), best_step(best_step) {}
+  long steps;          // phase 2 steps run (the limit)
+  double max_stress;   // the largest component counted at the end, in units of E
+  double best_stress;  // the smallest such value on the way, and the step it was met at
+  long best_step;
+};
+
+/// Phase 2: runs with the moving box until the criterion holds. Returns the steps taken. Throws
+/// RelaxationStalled when it does not hold within the limit, InputError naming
 /// sample.length / sample.width when the box would shrink below min_periodic_length(); SampleCollapse past
 /// spec.collapse_fraction (checked first); std::runtime_error if the state turns non-finite.
 long relax_phase2(DemSimulation& sim, const AmorphousSpec& spec, const AmorphousObserver& observer = {},
