@@ -1,5 +1,5 @@
 #pragma once
-// Calibration of the cohesive DEM's material inputs from the properties a user wants (issue 29).
+// Calibration of the cohesive DEM's material inputs from the properties a user wants.
 //
 // Paper A's eqs 7-16 turn E, nu, sigma_{m,N}, sigma_{m,T} and gamma into pair parameters, but an amorphous
 // sample measures E, nu and the strengths off their inputs (the paper's section 3.2 finds tension at ~50%,
@@ -52,7 +52,7 @@ struct CalibrationSpec {
   double elastic_load = 0.01;   // the elastic test's compressive stress over the inputs' E (section 3)
   ElasticSettings elastic;      // its stress is elastic_load E_in in every evaluation
   StrengthSettings strength;
-  // Accuracy wanted: relative for E and the strengths, absolute for nu (issue 29: 2%, 0.01, 3%).
+  // Accuracy wanted: relative for E and the strengths, absolute for nu (by default 2%, 0.01, 3%).
   double tolerance_E = 0.02, tolerance_nu = 0.01, tolerance_strength = 0.03;
   int max_runs = 20;  // patch runs in all (an evaluation is up to three: elastic, tension, shear)
 

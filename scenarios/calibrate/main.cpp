@@ -1,5 +1,5 @@
 // debris_calibrate: the cohesive DEM's material inputs whose amorphous sample measures the properties a user
-// wants (E, nu, tensile and shear strength), found with the patch tests (issue 29; the method is in
+// wants (E, nu, tensile and shear strength), found with the patch tests (the method is in
 // calibration.hpp). Writes <output>/calibration.csv (one row per step that made or collapsed a sample:
 // inputs, measures, errors, runs) and <output>/spread.csv (the calibrated inputs on the other seeds, so a
 // user knows what "within 2%" means for one sample), and prints the calibrated inputs as a `material:` block
@@ -200,7 +200,7 @@ int run(const Options& opt) {
 int main(int argc, char** argv) {
   if (const int status = debris::refuse_many_processes("debris_calibrate"); status >= 0) return status;
   CLI::App app{"debris_calibrate: cohesive-DEM inputs whose amorphous sample measures the target E, nu and "
-               "strengths (issue 29)"};
+               "strengths"};
   Options opt;
   app.add_option("-i,--input", opt.input, "YAML input file")->required();
   app.add_option("-o,--output", opt.output, "output directory (overrides output.directory)");
