@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <numbers>
 #include <string>
 #include <type_traits>
 
 #include "core/error.hpp"
+#include "core/unique_ids.hpp"
 
 namespace debris {
 
@@ -102,18 +102,7 @@ void Particles::check_column(const std::string& name, const std::string& key) co
     return " (particle id " + std::to_string(id[i]) + " at index " + std::to_string(i) + ")";
   };
   if (name == "id") {
-    std::vector<std::size_t> order(size());
-    std::iota(order.begin(), order.end(), std::size_t{0});
-    std::sort(order.begin(), order.end(), [this](std::size_t a, std::size_t b) {
-      return id[a] < id[b] || (id[a] == id[b] && a < b);
-    });
-    if (!order.empty() && id[order.front()] < 0)
-      throw input_error(key, std::to_string(id[order.front()]), "ids must be >= 0" + which(order.front()));
-    for (std::size_t k = 1; k < order.size(); ++k)
-      if (id[order[k]] == id[order[k - 1]])
-        throw input_error(key, std::to_string(id[order[k]]),
-                          "ids must be unique: particle id " + std::to_string(id[order[k]]) + " at index " +
-                              std::to_string(order[k - 1]) + " and at index " + std::to_string(order[k]));
+    require_unique_ids(id, key, "particle");
     return;
   }
   bool found = false;

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <type_traits>
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/unique_ids.hpp"
 #include "kernels/dem/cohesive_material.hpp"
 #include "scenarios/common/dem/dem_run.hpp"
 #include "scenarios/common/dem/dem_simulation.hpp"
@@ -107,17 +107,7 @@ void check_peridem_edit(const PeridemSimulation& sim, const std::vector<std::str
   for (const std::string& name : written) {
     const std::string key = "state." + name;
     if (name == "id") {
-      std::vector<std::size_t> order(n.size());
-      std::iota(order.begin(), order.end(), std::size_t{0});
-      std::sort(order.begin(), order.end(),
-                [&n](std::size_t a, std::size_t b) { return n.id[a] < n.id[b] || (n.id[a] == n.id[b] && a < b); });
-      if (!order.empty() && n.id[order.front()] < 0)
-        throw input_error(key, std::to_string(n.id[order.front()]), "ids must be >= 0" + which(order.front()));
-      for (std::size_t k = 1; k < order.size(); ++k)
-        if (n.id[order[k]] == n.id[order[k - 1]])
-          throw input_error(key, std::to_string(n.id[order[k]]),
-                            "ids must be unique: node id " + std::to_string(n.id[order[k]]) + " at index " +
-                                std::to_string(order[k - 1]) + " and at index " + std::to_string(order[k]));
+      require_unique_ids(n.id, key, "node");
       continue;
     }
     if (name == "grain") {
