@@ -6,6 +6,7 @@
 #include "core/box.hpp"
 #include "core/error.hpp"
 #include "core/io/input.hpp"
+#include "core/io/key_reference.hpp"
 
 namespace debris {
 
@@ -195,6 +196,35 @@ Region read_region(const InputNode& node, const Box* box) {
     throw input_error(path, std::to_string(parts.size()) + " region",
                       "give the region to cut from, then one or more regions to cut out of it");
   return form == "union" ? Region::union_of(std::move(parts)) : Region::difference(std::move(parts));
+}
+
+void document_regions(KeyReference& ref) {
+  const std::string t = "region";
+  ref.describe_section("",
+                       "A region is one of four forms, each a map with one key. Bounds are lengths; `-inf`/`min` "
+                       "and `inf`/`max` leave a side open. Containment is tested on positions wrapped into the "
+                       "box, without images; a block's `x`, `y`, `z` may also stand directly in the region's map.",
+                       t);
+  ref.key("block", t).is(KeyKind::section).fallback_is("one form per region")
+      .means("an axis-aligned block: the points with lo <= x < hi on each axis given");
+  for (const char* axis : {"x", "y", "z"})
+    ref.key(std::string("block.") + axis, t).is(KeyKind::numbers).in(units::length).fallback_is("all of the axis")
+        .allowed("[lo, hi], hi > lo").means(std::string("the block's bounds along ") + axis);
+  for (const char* axis : {"x", "y", "z"})
+    ref.key(axis, t).is(KeyKind::numbers).in(units::length).fallback_is("all of the axis")
+        .allowed("[lo, hi], hi > lo").means(std::string("a block's bounds along ") + axis + ", given without `block:`");
+  ref.key("cylinder", t).is(KeyKind::section).fallback_is("one form per region")
+      .means("a circular cylinder: the points within `radius` of its axis line");
+  ref.key("cylinder.axis", t).one_of({"x", "y", "z"}).means("the direction of the cylinder's axis");
+  ref.key("cylinder.centre", t).is(KeyKind::vector).in(units::length).means("a point of the axis line");
+  ref.key("cylinder.radius", t).is(KeyKind::quantity).in(units::length)
+      .allowed("> 0, diameter at most the box across the axis").means("the cylinder's radius");
+  ref.key("cylinder.extent", t).is(KeyKind::numbers).in(units::length).fallback_is("unbounded along the axis")
+      .allowed("[lo, hi], hi > lo").means("the cylinder's bounds along its axis");
+  ref.key("union", t).is(KeyKind::list).follows(t).fallback_is("one form per region")
+      .allowed("at least one region").means("the points inside any of the listed regions");
+  ref.key("difference", t).is(KeyKind::list).follows(t).fallback_is("one form per region")
+      .allowed("two or more regions").means("the points of the first region that are in none of the others");
 }
 
 }  // namespace debris

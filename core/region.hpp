@@ -23,6 +23,7 @@ namespace debris {
 
 class Box;
 class InputNode;
+class KeyReference;
 
 struct Region {
   enum class Kind { block, cylinder, union_of, difference };
@@ -58,6 +59,10 @@ struct Region {
 /// InputError naming the key and value for a malformed one; with `box`, also for a cylinder whose diameter
 /// exceeds the box's length along one of the two axes across it (a cylinder larger than the box).
 Region read_region(const InputNode& node, const Box* box = nullptr);
+
+/// Describes the keys of a region as the shared table "region" of `ref` (a key that holds a region says
+/// `.follows("region")`).
+void document_regions(KeyReference& ref);
 
 /// A region bound: a length, or -inf/inf (also min/max) for an open side.
 double read_bound(const InputNode& n);

@@ -7,6 +7,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -26,6 +27,8 @@ struct InputNode::Tracking {
   std::map<std::string, std::vector<std::string>> known;  // node path -> keys asked for, in order
   bool any_unit = false;                                  // a quantity read with a unit ("73 GPa")
   std::vector<std::string> plain;                         // "path = text" of dimensional quantities without one
+  std::vector<InputNode::Asked> asked;                    // what the getters asked, for the key audit
+  std::map<std::string, std::vector<std::size_t>> asked_at;  // path -> its entries in `asked`
 };
 
 namespace {
@@ -271,6 +274,7 @@ std::shared_ptr<const InputNode::Value> InputNode::require(const std::string& ke
 InputNode::Value InputNode::self() const { return Value{*node_, path_, where(tracking_->source, *node_)}; }
 
 bool InputNode::has(const std::string& key) const {
+  note(key, KeyKind::section);  // presence only
   auto& known = tracking_->known[path_];
   if (std::find(known.begin(), known.end(), key) == known.end()) known.push_back(key);
   if (!node_->IsMap()) return false;
@@ -287,11 +291,13 @@ std::vector<std::string> InputNode::keys() const {
 }
 
 InputNode InputNode::child(const std::string& key) const {
+  note(key, KeyKind::section);
   const auto value = require(key, "a section '" + key + ":'");
   return InputNode(std::make_shared<const YAML::Node>(value->node), value->path, tracking_);
 }
 
 std::vector<InputNode> InputNode::list(const std::string& key) const {
+  note(key, KeyKind::list);
   const auto value = require(key, "a list");
   const YAML::Node& seq = value->node;
   if (!seq.IsSequence())
@@ -301,6 +307,44 @@ std::vector<InputNode> InputNode::list(const std::string& key) const {
     out.push_back(InputNode(std::make_shared<const YAML::Node>(seq[i]), element_path(value->path, i), tracking_));
   return out;
 }
+
+// ---- what the getters asked, for the key audit ----------------------------------------------------------
+
+namespace {
+
+std::string canonical(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+std::string canonical(Vec3 v) { return canonical(v.x) + ", " + canonical(v.y) + ", " + canonical(v.z); }
+std::string canonical(long v) { return std::to_string(v); }
+std::string canonical(bool v) { return v ? "true" : "false"; }
+
+}  // namespace
+
+void InputNode::note(const std::string& key, KeyKind kind, units::Dimension dim, const std::string* fallback,
+                     const std::vector<std::string>* choices) const {
+  Asked a;
+  a.path = join(path_, key);
+  a.kind = kind;
+  a.dim = dim;
+  // has(), child() and list() say only that the key may be there; a getter says what it holds.
+  a.presence_only = kind == KeyKind::section && fallback == nullptr && choices == nullptr && dim == units::dimensionless;
+  if (fallback) a.has_fallback = true, a.fallback = *fallback;
+  if (choices) a.choices = *choices;
+  auto& at = tracking_->asked_at[a.path];
+  for (const std::size_t k : at) {
+    const Asked& b = tracking_->asked[k];
+    if (b.kind == a.kind && b.dim == a.dim && b.presence_only == a.presence_only && b.has_fallback == a.has_fallback &&
+        b.fallback == a.fallback && b.choices == a.choices)
+      return;
+  }
+  at.push_back(tracking_->asked.size());
+  tracking_->asked.push_back(std::move(a));
+}
+
+std::vector<InputNode::Asked> InputNode::asked() const { return tracking_->asked; }
 
 // ---- values -----------------------------------------------------------------------------------------
 // Each converter takes the node, its key path and its place in the file, so that its errors name all three.
@@ -407,6 +451,7 @@ std::vector<std::string> InputNode::plain_beside_units() const {
 }
 
 double InputNode::quantity(const std::string& key, units::Dimension dim) const {
+  note(key, KeyKind::quantity, dim);
   const auto v = require(key, "a value in " + units::to_string(dim));
   const double q = to_quantity(v->node, v->path, v->location, dim);
   observe(v->node, v->path, dim);
@@ -414,6 +459,8 @@ double InputNode::quantity(const std::string& key, units::Dimension dim) const {
 }
 
 double InputNode::quantity(const std::string& key, units::Dimension dim, double fallback) const {
+  const std::string f = canonical(fallback);
+  note(key, KeyKind::quantity, dim, &f);
   const auto v = find(key);
   if (!v) return fallback;
   const double q = to_quantity(v->node, v->path, v->location, dim);
@@ -429,6 +476,7 @@ double InputNode::quantity(units::Dimension dim) const {
 }
 
 Vec3 InputNode::vec3(const std::string& key, units::Dimension dim) const {
+  note(key, KeyKind::vector, dim);
   const auto v = require(key, "[x, y, z] in " + units::to_string(dim));
   const Vec3 q = to_vec3(v->node, v->path, v->location, tracking_->source, dim);
   observe(v->node, v->path, dim);
@@ -436,6 +484,8 @@ Vec3 InputNode::vec3(const std::string& key, units::Dimension dim) const {
 }
 
 Vec3 InputNode::vec3(const std::string& key, units::Dimension dim, Vec3 fallback) const {
+  const std::string f = canonical(fallback);
+  note(key, KeyKind::vector, dim, &f);
   const auto v = find(key);
   if (!v) return fallback;
   const Vec3 q = to_vec3(v->node, v->path, v->location, tracking_->source, dim);
@@ -444,6 +494,7 @@ Vec3 InputNode::vec3(const std::string& key, units::Dimension dim, Vec3 fallback
 }
 
 long InputNode::integer(const std::string& key) const {
+  note(key, KeyKind::integer);
   const auto v = require(key, "a whole number");
   return to_integer(v->node, v->path, v->location);
 }
@@ -454,26 +505,33 @@ long InputNode::integer() const {
 }
 
 long InputNode::integer(const std::string& key, long fallback) const {
+  const std::string f = canonical(fallback);
+  note(key, KeyKind::integer, units::dimensionless, &f);
   const auto v = find(key);
   return v ? to_integer(v->node, v->path, v->location) : fallback;
 }
 
 bool InputNode::boolean(const std::string& key) const {
+  note(key, KeyKind::boolean);
   const auto v = require(key, "true or false");
   return to_boolean(v->node, v->path, v->location);
 }
 
 bool InputNode::boolean(const std::string& key, bool fallback) const {
+  const std::string f = canonical(fallback);
+  note(key, KeyKind::boolean, units::dimensionless, &f);
   const auto v = find(key);
   return v ? to_boolean(v->node, v->path, v->location) : fallback;
 }
 
 std::string InputNode::string(const std::string& key) const {
+  note(key, KeyKind::text);
   const auto v = require(key, "a text value");
   return scalar_text(v->node, v->path, v->location, "a text value");
 }
 
 std::string InputNode::string(const std::string& key, const std::string& fallback) const {
+  note(key, KeyKind::text, units::dimensionless, &fallback);
   const auto v = find(key);
   return v ? scalar_text(v->node, v->path, v->location, "a text value") : fallback;
 }
@@ -484,17 +542,20 @@ std::string InputNode::text() const {
 }
 
 std::string InputNode::choice(const std::string& key, const std::vector<std::string>& allowed) const {
+  note(key, KeyKind::choice, units::dimensionless, nullptr, &allowed);
   const auto v = require(key, "one of: " + list_of(allowed));
   return to_choice(v->node, v->path, v->location, allowed);
 }
 
 std::string InputNode::choice(const std::string& key, const std::vector<std::string>& allowed,
                               const std::string& fallback) const {
+  note(key, KeyKind::choice, units::dimensionless, &fallback, &allowed);
   const auto v = find(key);
   return v ? to_choice(v->node, v->path, v->location, allowed) : fallback;
 }
 
 std::vector<double> InputNode::numbers(const std::string& key, units::Dimension dim) const {
+  note(key, KeyKind::numbers, dim);
   const auto v = require(key, "a list of values in " + units::to_string(dim));
   if (!v->node.IsSequence())
     throw fail(v->path, show(v->node),
@@ -565,6 +626,7 @@ void mark_read(const YAML::Node& node, const std::string& path, std::set<std::st
 }  // namespace
 
 void InputNode::skip(const std::string& key) const {
+  note(key, KeyKind::section);
   const std::shared_ptr<const Value> v = find(key);
   if (v) mark_read(v->node, v->path, tracking_->read);
 }

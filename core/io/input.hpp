@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/io/key_reference.hpp"
 #include "core/units.hpp"
 #include "core/vec3.hpp"
 
@@ -98,6 +99,21 @@ class InputNode {
   /// mixes the two may hold a forgotten unit, so the executables print them as a note.
   std::vector<std::string> plain_beside_units() const;
 
+  /// What a reader asked of one key, for the key audit (key_reference.hpp): the getter's kind, unit,
+  /// default (canonical text: "%.17g" numbers, "true"/"false") and choices. A presence test (has()) alone
+  /// leaves presence_only set.
+  struct Asked {
+    std::string path;  // with list indices, as errors name it
+    KeyKind kind = KeyKind::section;
+    units::Dimension dim = units::dimensionless;
+    bool presence_only = true;
+    bool has_fallback = false;
+    std::string fallback;
+    std::vector<std::string> choices;
+  };
+  /// Every key asked of this file's tree so far, in the order first asked.
+  std::vector<Asked> asked() const;
+
  private:
   struct Tracking;
   struct Value;  // a node found under a key, with its path and its place in the file
@@ -111,6 +127,9 @@ class InputNode {
   Value self() const;
   /// Records whether a quantity (or each element of a list of them) was written with a unit.
   void observe(const YAML::Node& node, const std::string& path, units::Dimension dim) const;
+  /// Records what a getter asked of `key` (the key audit's evidence).
+  void note(const std::string& key, KeyKind kind, units::Dimension dim = units::dimensionless,
+            const std::string* fallback = nullptr, const std::vector<std::string>* choices = nullptr) const;
 
   std::shared_ptr<const YAML::Node> node_;
   std::string path_;

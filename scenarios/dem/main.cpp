@@ -5,11 +5,13 @@
 // DEM run writes and checks is scenarios/common/dem/dem_run. Bad input ends with one message naming the key and the value
 // and exit 2, before anything is written; a run whose state turns non-finite or explodes stops with exit 3,
 // a message naming the step and the particle, and keeps the last good checkpoint.
+#include "scenarios/common/dem/dem_keys.hpp"
 #include "scenarios/common/dem/dem_run.hpp"
 
 int main(int argc, char** argv) {
   return debris::run_main(argc, argv, "debris_dem",
                           "debris_dem: cohesive coarse-grained DEM (Pham-Ba & Molinari) on host threads or a GPU",
                           "./build/bin/debris_dem -i scenarios/dem/default.yaml -o out/dem_default",
-                          debris::prepare_dem_run, /*runs_on_ranks=*/true);
+                          debris::prepare_dem_run, debris::dem_keys(), debris::dem_output_columns(),
+                          /*runs_on_ranks=*/true);
 }

@@ -9,6 +9,7 @@
 // (scenarios/common/run/runner.hpp); what a PeriDEM run writes and checks is scenarios/common/peridem/peridem_run.
 // Under mpirun (an MPI build) the grains are cut among the ranks (peridem_ranks.cpp) and every file is the
 // one a single process writes.
+#include "scenarios/common/peridem/peridem_keys.hpp"
 #include "scenarios/common/peridem/peridem_run.hpp"
 
 int main(int argc, char** argv) {
@@ -16,5 +17,6 @@ int main(int argc, char** argv) {
       argc, argv, "debris_peridem",
       "debris_peridem: PeriDEM (peridynamic grains with DEM contact, paper B) on host threads or a GPU",
       "./build/bin/debris_peridem -i scenarios/peridem/two_particle.yaml -o out/peridem_two_particle",
-      debris::prepare_peridem_run, /*runs_on_ranks=*/true);
+      debris::prepare_peridem_run, debris::peridem_keys(), debris::peridem_output_columns(),
+      /*runs_on_ranks=*/true);
 }

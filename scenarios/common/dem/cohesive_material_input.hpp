@@ -20,4 +20,13 @@ struct CohesiveMaterialKeys {
 CohesiveMaterial read_cohesive_material(const InputNode& m, CohesiveMaterial defaults,
                                         CohesiveMaterialKeys keys = {});
 
+/// Describes the keys read_cohesive_material() reads under `section` ("material"): required ones when
+/// `defaults` is null, else with its values as the defaults. poisson_ratio and scaling only with
+/// `poisson_and_scaling`.
+void document_cohesive_material(KeyReference& ref, const std::string& section, const CohesiveMaterial* defaults,
+                                bool poisson_and_scaling = true);
+
+/// The shortest decimal text that reads back as exactly `v` ("0.15", "73000000000"), for literal defaults.
+std::string shortest_text(double v);
+
 }  // namespace debris

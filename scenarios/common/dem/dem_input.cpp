@@ -13,6 +13,7 @@
 #include "core/memory_budget.hpp"
 #include "core/region.hpp"
 #include "scenarios/common/dem/cohesive_material_input.hpp"
+#include "scenarios/common/dem/dem_keys.hpp"
 
 namespace debris {
 
@@ -478,6 +479,7 @@ DemRunConfig read_dem_input(const InputNode& root, const std::string& base_direc
   }
   read_run_control(root, cfg, options.restored != nullptr);
   root.reject_unknown_keys();
+  audit_keys(root, dem_keys());
   cfg.plain_quantities = root.plain_beside_units();
   return cfg;
 }

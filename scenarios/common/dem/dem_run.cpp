@@ -18,6 +18,7 @@
 #include "kernels/dem/integrate.hpp"
 #include "scenarios/common/run/checkpoint_file.hpp"
 #include "scenarios/common/dem/dem_input.hpp"
+#include "scenarios/common/dem/dem_keys.hpp"
 #include "scenarios/common/dem/run_pictures.hpp"
 #include "scenarios/common/run/runner.hpp"
 
@@ -26,10 +27,9 @@ namespace debris {
 namespace {
 
 std::vector<std::string> dem_thermo_columns(const Groups& groups) {
-  std::vector<std::string> c{"step", "time", "kinetic_energy", "elastic_energy", "max_overlap", "interacting_pairs"};
-  for (const Group& g : groups.list)
-    for (const char* q : {"fx", "fy", "fz", "dx", "dy", "dz"}) c.push_back(g.name + "_" + q);
-  return c;
+  std::vector<std::string> names;
+  for (const Group& g : groups.list) names.push_back(g.name);
+  return dem_thermo_table().header({{"group", names}});
 }
 
 std::vector<double> dem_thermo_row(const DemSimulation& sim, const CohesiveDiagnostics& d) {

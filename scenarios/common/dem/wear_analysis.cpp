@@ -368,12 +368,36 @@ const WearSample& WearAnalysis::sample(const DemSimulation& sim) {
   return last;
 }
 
-std::vector<std::string> WearAnalysis::columns() {
-  return {"step",           "time",           "wall_force",        "wall_slide",       "wall_normal",
-          "bonded_pairs",   "walls_joined",   "junction_in_bottom", "junction_in_top", "junction_in_third",
-          "third_particles", "third_volume",  "third_from_junction", "centre_speed",    "spin",
-          "rolling_number", "residual",       "verdict",           "sample_verdict",   "mean_centre_speed",
-          "mean_rolling_number", "mean_residual"};
+const ColumnTable& WearAnalysis::table() {
+  static const ColumnTable t{
+      "wear.csv",
+      "One row every `wear.every` steps: the sheared junction's state and the verdict (`wear:` section; "
+      "verdicts are 0 ductile, 1 detached, 2 rolling wear particle).",
+      {
+          {"step", "-", "time step number", ""},
+          {"time", "s", "simulated time", ""},
+          {"wall_force", "N", "the top wall's reaction along the sliding axis (the tangential force)", ""},
+          {"wall_slide", "m", "the top wall's displacement along the sliding axis", ""},
+          {"wall_normal", "m", "the top wall's displacement along the normal axis", ""},
+          {"bonded_pairs", "-", "pairs in interaction range at every sample of the last `wear.persistence`", ""},
+          {"walls_joined", "-", "1 when one cluster of bonded pairs holds both walls, else 0", ""},
+          {"junction_in_bottom", "-", "share of the junction's volume in the bottom wall's cluster", ""},
+          {"junction_in_top", "-", "share of the junction's volume in the top wall's cluster", ""},
+          {"junction_in_third", "-", "share of the junction's volume bonded to neither wall", ""},
+          {"third_particles", "-", "particles of the candidate third body over the window (0: none)", ""},
+          {"third_volume", "-", "the junction's volume the candidate holds, over the junction's volume", ""},
+          {"third_from_junction", "-", "share of the candidate's volume that started in the junction", ""},
+          {"centre_speed", "-", "the candidate's centre displacement along the slide over the top wall's", ""},
+          {"spin", "rad/s", "the candidate's spin about normal x sliding direction, positive when it rolls with the wall", ""},
+          {"rolling_number", "-", "2 R spin / v: 1 when it rolls without slip", ""},
+          {"residual", "-", "rms residual of the candidate's rigid-motion fit over the window, scaled", ""},
+          {"verdict", "-", "the run's verdict at this sample, over the last `wear.verdict_span`", ""},
+          {"sample_verdict", "-", "the verdict of this sample's fit alone", ""},
+          {"mean_centre_speed", "-", "mean centre_speed over the verdict span", ""},
+          {"mean_rolling_number", "-", "mean rolling_number over the verdict span", ""},
+          {"mean_residual", "-", "mean residual over the verdict span", ""},
+      }};
+  return t;
 }
 
 std::vector<double> WearAnalysis::row(const WearSample& s) {

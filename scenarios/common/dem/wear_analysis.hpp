@@ -48,6 +48,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "core/io/key_reference.hpp"
 #include "core/vec3.hpp"
 
 namespace debris {
@@ -129,7 +130,9 @@ class WearAnalysis {
   const WearSample& sample(const DemSimulation& sim);
   const std::vector<WearSample>& samples() const { return samples_; }
 
-  static std::vector<std::string> columns();
+  /// wear.csv's columns with their units and meanings; the header is its names.
+  static const ColumnTable& table();
+  static std::vector<std::string> columns() { return table().header(); }
   static std::vector<double> row(const WearSample& s);
 
   /// The state to continue from (checkpoints), and back. restore() checks what it is given (InputError

@@ -18,6 +18,7 @@
 #include "core/io/input.hpp"
 #include "core/memory_budget.hpp"
 #include "scenarios/common/peridem/shape_mesh.hpp"
+#include "scenarios/common/peridem/peridem_keys.hpp"
 
 namespace debris {
 
@@ -580,6 +581,7 @@ PeridemRunConfig read_peridem_input(const InputNode& root, const std::string& ba
   }
   if (!options.output_directory.empty()) cfg.output.directory = options.output_directory;
   root.reject_unknown_keys();
+  audit_keys(root, peridem_keys());
   cfg.plain_quantities = root.plain_beside_units();
   if (!options.build_system) return cfg;
 

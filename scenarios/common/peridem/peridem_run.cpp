@@ -1,4 +1,5 @@
 #include "scenarios/common/peridem/peridem_run.hpp"
+#include "scenarios/common/peridem/peridem_keys.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -31,24 +32,15 @@ bool grain_columns(const PeridemSimulation& sim, const PeridemOutputSettings& ou
 }
 
 std::vector<std::string> peridem_thermo_columns(const PeridemSimulation& sim, int dimension, bool per_grain) {
-  std::vector<std::string> c{"step",           "time",       "kinetic_energy", "bond_energy",
-                             "contact_energy", "max_damage", "broken_bonds",   "contact_pairs"};
   const std::vector<int> kinds = sim.grain_kinds();
   const std::vector<std::string>& names = sim.grain_names();
-  const std::vector<const char*> force =
-      dimension == 2 ? std::vector<const char*>{"fx", "fy"} : std::vector<const char*>{"fx", "fy", "fz"};
-  for (std::size_t k = 0; k < kinds.size(); ++k)
-    if (is_wall(kinds, k))
-      for (const char* q : force) c.push_back(names[k] + "_" + q);
-  if (!per_grain) return c;
-  const std::vector<const char*> q =
-      dimension == 2
-          ? std::vector<const char*>{"x", "y", "vx", "vy", "kinetic_energy", "damage", "broken_bonds"}
-          : std::vector<const char*>{"x", "y", "z", "vx", "vy", "vz", "kinetic_energy", "damage", "broken_bonds"};
-  for (std::size_t k = 0; k < kinds.size(); ++k)
-    if (!is_wall(kinds, k))
-      for (const char* s : q) c.push_back(names[k] + "_" + s);
-  return c;
+  std::vector<std::string> walls, grains;
+  for (std::size_t k = 0; k < kinds.size(); ++k) (is_wall(kinds, k) ? walls : grains).push_back(names[k]);
+  std::vector<std::string> conditions;
+  if (dimension == 3) conditions.push_back("3D");
+  if (per_grain) conditions.push_back("per grain");
+  if (dimension == 3 && per_grain) conditions.push_back("3D per grain");
+  return peridem_thermo_table().header({{"wall", walls}, {"grain", grains}}, conditions);
 }
 
 /// Needs diagnostics() of this step first (damage). Collective in a run cut among ranks.

@@ -1,4 +1,5 @@
 #include "scenarios/common/run/runner.hpp"
+#include "scenarios/common/run/reference_flags.hpp"
 
 #include <CLI/CLI.hpp>
 #include <chrono>
@@ -442,7 +443,7 @@ void continue_beside_checkpoint(RunPlan& plan, const RunOptions& options) {
 
 int run_main(int argc, char** argv, const std::string& program, const std::string& description,
              const std::string& example, const std::function<RunPlan(const RunOptions&)>& prepare,
-             bool runs_on_ranks) {
+             const KeyReference& keys, const std::vector<ColumnTable>& columns, bool runs_on_ranks) {
   const comm::Session mpi(&argc, &argv);
   if (const int status = refuse_many_processes(program, runs_on_ranks); status >= 0) return status;
   // Cut among ranks, rank 0 speaks for all (an error every rank meets is printed once).
@@ -459,7 +460,10 @@ int run_main(int argc, char** argv, const std::string& program, const std::strin
                  "number of host threads (overrides run.threads; 0, the default: run.threads, else "
                  "OMP_NUM_THREADS, else tuned while stepping)")
       ->check(CLI::NonNegativeNumber);
+  ReferenceFlags reference;
+  add_reference_flags(app, reference);
   if (const int status = parse_command_line(app, argc, argv); status >= 0) return status;
+  if (print_reference(reference, keys, columns)) return 0;
   if (opt.input.empty() && opt.restart.empty()) {
     std::cerr << program
               << ": give an input file (-i run.yaml) or a checkpoint (--restart checkpoint.h5); --help "

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/error.hpp"  // kExitInput, kExitUnfinished
+#include "core/io/key_reference.hpp"
 #include "core/io/progress.hpp"
 #include "core/pass_timer.hpp"  // WallClock
 #include "core/thread_tuner.hpp"
@@ -206,8 +207,9 @@ class Run {
 /// rank 0 alone prints and writes files (the other ranks' std::cout and std::cerr are silenced). An error
 /// every rank meets (bad input, a failed health check) ends all with its status; one only rank 0 meets (an
 /// output it cannot write) ends the job (comm::abort) with exit 3. Other programs are refused (exit 2).
+/// `keys` and `columns` are what `--keys` and `--columns` print (reference_flags.hpp).
 int run_main(int argc, char** argv, const std::string& program, const std::string& description,
              const std::string& example, const std::function<RunPlan(const RunOptions&)>& prepare,
-             bool runs_on_ranks = false);
+             const KeyReference& keys, const std::vector<ColumnTable>& columns, bool runs_on_ranks = false);
 
 }  // namespace debris

@@ -4,6 +4,7 @@
 
 #include "core/error.hpp"
 #include "core/io/input.hpp"
+#include "core/io/key_reference.hpp"
 
 namespace debris {
 
@@ -35,6 +36,21 @@ std::vector<StageLength> read_stage_lengths(const InputNode& root, std::vector<I
     if (nodes) nodes->push_back(s);
   }
   return out;
+}
+
+void document_stage_lengths(KeyReference& ref) {
+  ref.describe_section("stages",
+                       "A run may be split into stages (settle, then load; slide, then unload). Stage k starts at "
+                       "the sum of the lengths before it; its changes apply at that step, after its output and "
+                       "checkpoint, so a restart anywhere repeats the run bit for bit.");
+  ref.key("stages").is(KeyKind::list).fallback_is("none: one stage of `run.steps`").allowed("at least one entry")
+      .means("the stages, in order");
+  ref.key("stages.name").is(KeyKind::text).fallback_is("`stage<k>` (k counted from 0)").allowed("unique")
+      .means("the stage's name, printed when it starts");
+  ref.key("stages.steps").is(KeyKind::integer).fallback_is("give steps or duration").allowed(">= 1")
+      .means("the stage's length in steps");
+  ref.key("stages.duration").is(KeyKind::quantity).in(units::time).fallback_is("give steps or duration")
+      .allowed("> 0").means("the stage's length as a time, rounded to whole steps of `run.time_step`");
 }
 
 int StagePlan::stage_at(long step) const {

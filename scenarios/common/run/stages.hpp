@@ -22,6 +22,7 @@
 namespace debris {
 
 class InputNode;
+class KeyReference;
 
 /// A stage as the input gives it: a name, and its length in steps or as a duration (one of the two).
 struct StageLength {
@@ -35,6 +36,10 @@ struct StageLength {
 /// stage to the caller (`nodes` receives each stage's node). InputError for a missing or non-positive
 /// length, both steps and duration, or a repeated name.
 std::vector<StageLength> read_stage_lengths(const InputNode& root, std::vector<InputNode>* nodes);
+
+/// Describes `stages` and the keys read_stage_lengths() reads (name, steps, duration); the executable
+/// describes what else a stage may change.
+void document_stage_lengths(KeyReference& ref);
 
 /// The stages on the step axis.
 struct StagePlan {
