@@ -311,7 +311,7 @@ void BM_Step(benchmark::State& state) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const long rebuilds = sim.times().rebuilds - rebuilds0;
   state.SetItemsProcessed(state.iterations() * n);
-  // Host <-> device transfers inside the timed steps (offload builds; issue 12's goal is none between output
+  // Host <-> device transfers inside the timed steps (offload builds, where the aim is none between output
   // steps): bytes per step, and their share of the wall time. Zero in host builds.
   const exec::TransferStats moved = exec::transfer_stats();
   const double steps = static_cast<double>(state.iterations());

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The device check for a machine with an NVIDIA GPU (issue 12), in one go and well under 8 minutes, because
-# device time is scarce (15 minutes per task, start-up included):
+# The device check for a machine with an NVIDIA GPU (the OpenMP offload build), in one go and well under
+# 8 minutes, because device time is scarce (15 minutes per task, start-up included):
 #
 #   1. builds the nvptx configuration (GCC 12 OpenMP offload), unless $BUILD already holds it (build it on
 #      the host beforehand and carry it: `cmake -S . -B build-nvptx -DDEBRIS_OFFLOAD=nvptx

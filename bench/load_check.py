@@ -9,7 +9,7 @@ For debris_dem on its default input and debris_peridem on the 502-grain compress
 --peridem-steps steps), it measures the wall time of the command (best of --repeat runs) with nothing beside
 it, then beside one busy loop pinned to CPU 0, then, as the reference for "the best choice", beside the same
 loop on each fixed thread count. It prints one table and fails (exit 1) when the default settings run more
-than --limit times slower beside the busy loop than alone (issue 13: at most 2x).
+than --limit times slower beside the busy loop than alone (the aim: at most 2x).
 """
 import argparse
 import os

@@ -1,4 +1,5 @@
-// Weak scaling of the PeriDEM step cut among ranks (issue 27), on demand (not in ctest):
+// Weak scaling of the PeriDEM step cut among ranks (shared/design/scale-mpi.md, section 5), on demand (not in
+// ctest):
 //   mpirun -np P build-mpi/bin/debris_mpi_pd_weak_scaling [--steps 200] [--input FILE] [--gap MM]
 // The 502-grain deck (scenarios/peridem/compressive_n500.yaml, or FILE) tiled P x 1 (bench/pd_tiles.hpp:
 // each tile its own grains, container and lid, --gap mm from the next, 1 by default: beyond contact, so

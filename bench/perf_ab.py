@@ -6,7 +6,7 @@ not have, the only comparison that holds is A/B on the machine itself: this scri
 a base commit (by default the one in bench/perf_base_commit) in a scratch directory, then runs the two
 executables in alternating rounds (new, base; base, new; ...), each run the perf_check subset in items per
 CPU-second of the benchmark thread. Within a round the two runs are seconds apart, so a change of the
-machine's speed (other tenants, the AMD kind's slow memory mode lasting minutes) hits both; the check
+machine's speed (other tenants, the AMD EPYC guest's slow memory mode lasting minutes) hits both; the check
 takes, per benchmark, the median over rounds of the paired ratio new / base and fails (exit 1) when it is
 below 1 - tolerance (perf_check.TOLERANCE, 0.15, by default: a benchmark that takes 25% longer, ratio 0.80,
 fails; the few per cent of noise between paired runs do not). A benchmark below the limit is measured again
@@ -19,8 +19,8 @@ and 2 x --rounds runs of the subset (about 10 s each on a quiet machine, 14 s at
     python3 bench/perf_ab.py --bench build/bin/debris_bench [--base COMMIT | --base-bench PATH]
 
 bench/perf_base_commit names the commit to compare with: the last landed commit whose speed was accepted.
-Advance it when a session starts from a new landed commit (git rev-parse --short HEAD), and with a note when
-a slowdown is accepted on purpose. Python 3 standard library only.
+Advance it when work starts from a new landed commit (git rev-parse --short HEAD), and with a note when a
+slowdown is accepted on purpose. Python 3 standard library only.
 """
 import argparse
 import os

@@ -77,7 +77,7 @@ SUBSET = [
     "BM_PdStep/threads:1/real_time",
 ]
 # Fail below baseline * (1 - TOLERANCE): a benchmark 25% slower (its time x 1.25, its ratio x 0.80) fails with
-# room to spare, and unchanged code passes (measured A/B on the AMD EPYC kind at load 5-7: medians of the paired
+# room to spare, and unchanged code passes (measured A/B on an AMD EPYC guest at load 5-7: medians of the paired
 # ratios 0.95-1.11 for identical builds, 0.76-0.79 for a PeriDEM step or bond step made to take 25% longer).
 TOLERANCE = 0.15
 

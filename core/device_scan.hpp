@@ -1,6 +1,6 @@
 #pragma once
 // Prefix sums of an int array where it lives: on the device in offload builds, so that a list build moves
-// one scalar, not the array, between host and device (issue 30). The sums are exact integer sums, so the
+// one scalar, not the array, between host and device. The sums are exact integer sums, so the
 // result is the same on any device, block size or thread count as the serial loop of host builds.
 #include "core/exec.hpp"
 

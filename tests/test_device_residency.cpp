@@ -166,13 +166,12 @@ TEST(DeviceResidency, DemRunOnTheDeviceEqualsHostFallback) {
               t.to_host_bytes);
 }
 
-// Issue 30: a DEM list build runs where the particles are: wrap, the canonical re-sort (the cell counting
-// sort, the order by cell and id, the gather of every column), the neighbour search and its prefix sum,
-// the history's carry-over. 60 rebuilds of the sheared block move no array through the named transfer
-// points (only reductions' and scans' scalars); until 2026-12-05 each re-sort brought the ids and the
-// cell list back and sent the order out. The state after them equals host fallback's bit for bit.
+// A DEM list build runs where the particles are: wrap, the canonical re-sort (the cell counting sort, the
+// order by cell and id, the gather of every column), the neighbour search and its prefix sum, the
+// history's carry-over. 60 rebuilds of the sheared block move no array through the named transfer points
+// (only reductions' and scans' scalars), and the state after them equals host fallback's bit for bit.
 // `wide`: a third of the free particles at 0.45 of the others' radius, two size classes, so each build also
-// bins the classes and joins their grids (until then on the host, positions and radii back every build).
+// bins the classes and joins their grids on the device.
 static void expect_dem_list_builds_move_only_scalars(bool wide) {
   const int builds = 60;
   const auto run = [&](exec::TransferStats* counted) {
@@ -368,11 +367,10 @@ PdResult run_pd_model(long steps, const fs::path& dir) {
   return r;
 }
 
-// Issue 30: a contact list build runs where the nodes are, the cell list (cell of each node, counting sort),
-// the offsets' prefix sum and the grain-pair slots included, so 60 builds of the impact's list move nothing
+// A contact list build runs where the nodes are, the cell list (cell of each node, counting sort), the
+// offsets' prefix sum and the grain-pair slots included, so 60 builds of the impact's list move nothing
 // through the named transfer points (only the scans' totals and the bounding box come back, as scalars of
-// their kernels). Before, each build moved the offsets and rows back and the slot arrays out for a host
-// slot build, and before that the cell list too. The lists and slots equal host fallback's bit for bit.
+// their kernels). The lists and slots equal host fallback's bit for bit.
 TEST(DeviceResidency, PeridemListBuildMovesOnlyScalars) {
   if (!device_with_own_memory()) GTEST_SKIP() << kNoDevice;
   const fs::path dir = test::fresh_directory("debris_device_pd_builds");

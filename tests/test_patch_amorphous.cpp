@@ -66,7 +66,7 @@ PatchSample tiny_patch() {
 }
 
 TEST(PatchOverlapLimit, AutomaticIsTheInitialOverlapPlusTheAllowance) {
-  EXPECT_DOUBLE_EQ(patch_overlap_limit(0.0, 0.0, kOverlapAllowanceElastic), 0.5);  // a lattice: the old limits
+  EXPECT_DOUBLE_EQ(patch_overlap_limit(0.0, 0.0, kOverlapAllowanceElastic), 0.5);  // a lattice: 0.5 and 1.0
   EXPECT_DOUBLE_EQ(patch_overlap_limit(0.0, 0.0, kOverlapAllowanceStrength), 1.0);
   EXPECT_DOUBLE_EQ(patch_overlap_limit(0.0, 0.65, kOverlapAllowanceElastic), 1.15);
   EXPECT_DOUBLE_EQ(patch_overlap_limit(2.0, 0.65, kOverlapAllowanceElastic), 2.0);  // a setting wins

@@ -279,8 +279,8 @@ System make_many_grains() {
 }
 
 // Many blocks, one and two threads: each node's sums must not depend on which block or thread sweeps its row.
-// (Written for a force sweep that took each bond once from its lower node, in blocks of whole grains, tried
-// and dropped: scenarios/peridem/RESULTS.md, section 9. Cutting its blocks inside a grain failed this test.)
+// (A sweep that takes each bond once, from its lower node, must cut its blocks between grains only: cut
+// inside a grain, such a sweep fails this test.)
 TEST(PdBondPassesFast, ManyGrainsStepEqualsThePureFunctionsAndIsTheSameOnTwoThreads) {
   const int saved = exec::threads();
   exec::set_threads(1);

@@ -138,7 +138,7 @@ TEST(PdWallDamping, WallDampsLikeAGrainOfInfiniteMass) {
     const double grain = restitution_of(false, damping, 0.5);
     SCOPED_TRACE(damping);
     EXPECT_NEAR(wall, grain, 0.005);
-    if (damping == "grain_centres") {  // really damped (it was 0.95 against a wall), and still a rebound
+    if (damping == "grain_centres") {  // really damped (a wall node's own mass would give 0.95), still a rebound
       EXPECT_GT(wall, 0.5);
       EXPECT_LT(wall, 0.75);
     } else {  // damped, if little: below the elastic rebound

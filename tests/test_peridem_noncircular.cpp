@@ -135,9 +135,8 @@ TEST(PeridemNoncircular, ConcaveGrainReboundsFromAConcaveGrainWithBoundedDamage)
   // Regression (replaces 1.5 < vy < 8): 15% of the measured +2.442 m/s. Runs that differ only in round-off
   // (the bond force's V_i multiplied before or after its sum, and the normal stiffness's products grouped
   // otherwise) gave 2.29-2.44 m/s: the fracture is chaotic, so 3% passed or failed by the last bits. A force
-  // sweep taking each bond once (tried, dropped: peridem RESULTS section 9) gave 2.431 m/s with V_i times
-  // eq 33's term and 2.134 m/s with V_i V_j multiplied first (409 and 423 broken bonds): 10% too passed or
-  // failed by the last bits.
+  // sweep taking each bond once gave 2.431 m/s with V_i times eq 33's term and 2.134 m/s with V_i V_j
+  // multiplied first (409 and 423 broken bonds): 10% too passed or failed by the last bits.
   EXPECT_NEAR(last[vy], 2.442, 0.15 * 2.442);
   // A fracture zone in the top grain where the bottom grain's corner entered its notch, bounded: a few
   // hundred of its ~6,000 bonds, not a shattered grain. Regression (replaces 100 < broken < 1500): the

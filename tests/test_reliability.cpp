@@ -1,4 +1,4 @@
-// Reliability of the executables (issue 14): checkpoints that detect silent corruption, exit statuses that
+// Reliability of the executables: checkpoints that detect silent corruption, exit statuses that
 // mean one thing each, a full disk or a blocked output directory, systems too large for the machine, thermo
 // tables that do not depend on the thread count, a split run whose thermo table equals the whole run's, and
 // restarts over tables a crash cut short.

@@ -226,7 +226,7 @@ TEST(VirialStress, KineticPartOfFreeParticles) {
 }
 
 // ---------------------------------------------------------------------------------------------------------
-// The virial as the strain derivative of the elastic energy (issue 4).
+// The virial as the strain derivative of the elastic energy.
 //
 // For a strain increment e applied to the current positions, x -> (I + e) x, of a periodic sample (or a whole
 // free cluster) whose forces derive from a pair potential U, dU/de_ab = -sum_pairs F_ij,a r_ij,b exactly, so

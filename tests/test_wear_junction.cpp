@@ -67,7 +67,7 @@ INSTANTIATE_TEST_SUITE_P(D0SixNm, WearJunction,
 
 // The case whose outcome is known independently of the analysis: D = 20 nm at d0 = 1.5 nm, where the paper
 // (Figs 10, A.10) finds a rolling wear particle. 4,228 particles; the slide shortened from 10 to 5 ns
-// (257,500 steps, 6.5 min on one thread of this project's AMD machine; left out of the sanitizer stage of
+// (257,500 steps, 6.5 min on one thread of an AMD EPYC (Zen 5); left out of the sanitizer stage of
 // .ci/run): the junction breaks off and rolls from 3.0 ns on (28 nm of sliding) in the full run, so the last
 // window, 3.2-5.2 ns, holds the rolling body. Checked against physics: rolling without slip between a fixed
 // and a sliding wall moves the centre at half the wall's speed with a rolling number near 1, as a rigid body

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""debris_dem against the author's LAMMPS pair style on the same particles (issue 13: at least 2x).
+"""debris_dem against the author's LAMMPS pair style on the same particles (the aim: at least 2x as fast).
 
 The system is BM_Step's benchmark packing at N = 32,000 (bench/bench_dem.cpp): LAMMPS writes it as a data
 file (make_fcc.lmp) and both codes read that file, so they start from the same positions, diameters,
@@ -87,8 +87,8 @@ def main():
     with open(os.path.join(work, "debris_fcc.yaml"), "w") as f:
         f.write(deck)
 
-    # The wait policy is the caller's (GCC's default spins at barriers): OMP_WAIT_POLICY=passive, set here
-    # before 2026-12-06, costs debris's multi-thread runs a sleep and wake at each of a step's barriers.
+    # The wait policy is the caller's (GCC's default spins at barriers): OMP_WAIT_POLICY=passive would cost
+    # debris's multi-thread runs a sleep and wake at each of a step's barriers.
     env = dict(os.environ, OMP_NUM_THREADS="1")
     best = {"lammps": (0, 0), **{t: (0, 0) for t in counts}}
     for k in range(a.rounds):

@@ -1,6 +1,6 @@
 #pragma once
-// Whole PeriDEM grains move to the rank that owns their centre (shared/design/scale-mpi.md, section 5;
-// issue 27): a grain's nodes, its record and its bond rows (partners, reference lengths, broken flags) travel
+// Whole PeriDEM grains move to the rank that owns their centre (shared/design/scale-mpi.md, section 5):
+// a grain's nodes, its record and its bond rows (partners, reference lengths, broken flags) travel
 // together, so bonds, bond breaking and the per-grain sums stay on one rank. As for particles
 // (core/comm/migration), a grain that left this rank's subdomain goes to the next rank along the axis it
 // left by, one axis after the other; it moves at most half a subdomain between two list builds.

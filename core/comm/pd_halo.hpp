@@ -1,5 +1,5 @@
 #pragma once
-// The ghost layer of a rank of a PeriDEM run (shared/design/scale-mpi.md, section 5; issue 27): copies of the
+// The ghost layer of a rank of a PeriDEM run (shared/design/scale-mpi.md, section 5): copies of the
 // nodes of other ranks' grains that lie within the ghost width of this rank's subdomain, each with a record
 // of its grain (kind, material, centre, velocity, mass), so that the contact list of every owned node holds
 // all its partners, and the damping between grain centres (eqs 26-30) finds the centre of every grain its

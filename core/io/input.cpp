@@ -142,8 +142,8 @@ void check_keys(const YAML::Node& node, const std::string& path, const std::stri
 }
 
 // Walks the documents of `yaml` without building them and returns how many there are. yaml-cpp 0.7 (Debian
-// 12) loops for ever, one null document per turn, on some malformed text such as a lone ',' (its issue 1040,
-// fixed upstream in 2024): the parser reports a document and consumes nothing. Such a document starts where
+// 12) loops for ever, one null document per turn, on some malformed text such as a lone ',' (yaml-cpp bug
+// 1040, fixed upstream in 2024): the parser reports a document and consumes nothing. Such a document starts where
 // the previous one did; it is reported as the syntax error it is instead of being read again.
 class DocumentCounter final : public YAML::EventHandler {
  public:

@@ -24,10 +24,10 @@
 // partners' columns fetched by broadcast loads and blends, every term summed in registers in the same 4-sum
 // order, and |y| handed from the dilatation sweep to the force sweep (BondList::bond_length, 8 B an entry),
 // which then takes no square root: the same operations in the same order as the compiler's loops, so the same
-// bits (scenarios/peridem/RESULTS.md, section 9).
+// bits (tests/test_pd_bond_passes_fast.cpp).
 // When every node has the same z (a 2D deck; pd_nodes_in_one_plane) the sweeps skip z: dz = 0 exactly, so
-// the bits are those of the 3D sweeps, with one column fewer to fetch per entry (a PeriDEM step 1.2x faster
-// on the 502-grain deck, README "The Intel kind again").
+// the bits are those of the 3D sweeps, with one column fewer to fetch per entry and a fifth less arithmetic
+// (bench/README.md has the passes' rates).
 //
 // Per-node constants: node i belongs to grain nodes.grain[i], whose material is grains.material[g], an
 // index into `lps` (PdLpsConstants::from of the scenario's material table). Wall nodes have no bonds and

@@ -43,11 +43,11 @@ CASES = {
     "6_seed3": dict(data="data/silica_d0_6nm_seed3.data", dt_fs=80, d0=6),
     "3_seed2": dict(data="data/silica_d0_3nm_seed2.data", dt_fs=40, d0=3),
     "3_seed3": dict(data="data/silica_d0_3nm_seed3.data", dt_fs=40, d0=3),
-    # And at d0 = 1.5 nm, where D = 20 nm rolls on seed 1: does it roll on every sample? (issue 29)
+    # And at d0 = 1.5 nm, where D = 20 nm rolls on seed 1: does it roll on every sample?
     "1.5_seed2": dict(data="data/silica_d0_1.5nm_seed2.data", dt_fs=20, d0=1.5),
     "1.5_seed3": dict(data="data/silica_d0_1.5nm_seed3.data", dt_fs=20, d0=1.5),
     # Calibrated silica at d0 = 3 nm (sample_d0_3nm_calibrated.yaml): the inputs debris_calibrate returned for
-    # this recipe, whose sample measures 73 GPa and the closest reachable strengths (issue 29).
+    # this recipe, whose sample measures 73 GPa and the closest reachable strengths.
     "3_calibrated": dict(data="data/silica_d0_3nm_calibrated.data", dt_fs=40, d0=3, material=CALIBRATED_3NM),
     # Its control: Table 5 with the surface energy half way (in log) to the calibrated one.
     "3_gamma3.4": dict(data="data/silica_d0_3nm_gamma3.4.data", dt_fs=40, d0=3,

@@ -2,7 +2,7 @@
 // at every thermo row (kinetic energy, momentum, elastic energy, pairs, deepest overlap, the groups'
 // reactions, displacements and velocities, the number of rebuilds) and in the final state of every particle.
 // Every rank also runs the whole system alone (settings.distribute = false) as the reference, and compares.
-// Issue 26's test 2: a sheared cohesive sample with rebuilds and particles crossing ranks (their pair history
+// The cases: a sheared cohesive sample with rebuilds and particles crossing ranks (their pair history
 // migrating with them), and a stress test that rebuilds, and so migrates, at every step.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// The PeriDEM step cut among ranks (issue 27; scenarios/common/peridem/peridem_ranks.cpp) against one
+// The PeriDEM step cut among ranks (scenarios/common/peridem/peridem_ranks.cpp) against one
 // process: every rank also runs the whole system alone, and every node a rank owns must have the same bits
 // (position, velocity, force, dilatation) as that node in the one-process run, and the diagnostics (energies,
 // momentum, damage, broken bonds, touching pairs) and the walls' reactions the same bits, after the set-up and every 150 steps in which grains fly across the cuts, collide with

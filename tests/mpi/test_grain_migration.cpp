@@ -1,4 +1,4 @@
-// Whole PeriDEM grains on their centre's rank (core/comm/grain_migration, issue 27): every grain on exactly
+// Whole PeriDEM grains on their centre's rank (core/comm/grain_migration): every grain on exactly
 // one rank, the one owning its centre, with its nodes, record and bond rows bit for bit those of the whole
 // system every rank also holds, after the set-up and after each of 30 rounds of motion that makes grains
 // cross the cuts (and a periodic face) back and forth; storage in one process's order.

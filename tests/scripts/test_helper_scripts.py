@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The helper scripts of scenarios/wear and scenarios/peridem on small real outputs (issue 32, item 8).
+"""The helper scripts of scenarios/wear and scenarios/peridem on small real outputs.
 
     /usr/bin/python3 tests/scripts/test_helper_scripts.py BUILD/bin      (or DEBRIS_BIN_DIR=BUILD/bin)
 

@@ -24,7 +24,7 @@ std::mutex& gmsh_lock() {
 }
 
 /// Gmsh stays initialised between uses, except after an error: Gmsh 4.8 keeps counting it, and a later
-/// mesh generation in the same session then stops before it starts (an empty mesh, seen in the tests), so
+/// mesh generation in the same Gmsh session then stops before it starts (an empty mesh, seen in the tests), so
 /// a failure finalises Gmsh and the next use starts it afresh. Under gmsh_lock().
 bool gmsh_initialised = false;
 

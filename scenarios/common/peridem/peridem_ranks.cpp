@@ -1,4 +1,4 @@
-// PeridemSimulation cut among MPI ranks (shared/design/scale-mpi.md, section 5; issue 27). A grain belongs
+// PeridemSimulation cut among MPI ranks (shared/design/scale-mpi.md, section 5). A grain belongs
 // whole to the rank whose subdomain holds its centre, so bonds, bond breaking and the per-grain sums stay on
 // that rank; only contact needs copies of other ranks' nodes (core/comm/pd_halo).
 //

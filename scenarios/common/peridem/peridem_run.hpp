@@ -2,7 +2,7 @@
 // debris_peridem's run as the shared runner sees it: a RunModel over a PeridemSimulation (thermo columns per
 // wall and grain, node frames, the health and penetration checks, stages, checkpoints), and the set-up that
 // builds it from the input or a checkpoint. A library, not the executable's main, so that other drivers
-// (the Python module of issue 28) run a PeriDEM input exactly as debris_peridem does.
+// (the Python module, scenarios/python) run a PeriDEM input exactly as debris_peridem does.
 #include "scenarios/common/run/runner.hpp"
 
 namespace debris {

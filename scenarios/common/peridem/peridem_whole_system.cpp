@@ -1,5 +1,5 @@
 // What a PeriDEM run says of its whole system (output rows, node frames, the checks that stop a run, where
-// a stage places a wall), the same on one process and on a run cut among ranks (issue 27): there each rank
+// a stage places a wall), the same on one process and on a run cut among ranks: there each rank
 // computes it for what it owns, as one process computes it, and the ranks put the parts together.
 #include <algorithm>
 #include <cmath>

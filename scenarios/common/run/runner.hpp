@@ -159,7 +159,7 @@ void print_input_notes(std::ostream& out, const std::vector<std::string>& ignore
 void continue_beside_checkpoint(RunPlan& plan, const RunOptions& options);
 
 /// One run of a plan, step by step: what run_main does between the set-up and the exit, for drivers that
-/// step a run themselves (the Python module of issue 28). start() checks the set-up (InputError when it
+/// step a run themselves (the Python module, scenarios/python). start() checks the set-up (InputError when it
 /// cannot run, before anything is written), opens the outputs and writes the first step's; advance(n) makes
 /// at most n steps, never past the plan's last, each with its checks, outputs, stage changes and progress
 /// line; finish(), once done(), prints the closing report and the pass table. Each returns an exit status: 0,
