@@ -98,6 +98,22 @@ TEST(KeyAudit, ADefaultGivenWithAUnitIsComparedInSi) {
   EXPECT_EQ(key_audit_findings(other, small_reference()).size(), 1u);
 }
 
+// A key that takes one value or a list of them (a sweep: debris_patch's poisson_ratio) is described as a
+// list of quantities and read as one quantity or as the list; a vector stays read element by element only.
+TEST(KeyAudit, AListOfQuantitiesMayBeReadAsOneValue) {
+  KeyReference r("demo");
+  r.key("nu").is(KeyKind::numbers).means("one value or a sweep");
+  r.key("at").is(KeyKind::vector).in(units::length).means("a point");
+  const InputNode one = InputNode::load_string("nu: 0.1\nat: 1\n");
+  (void)one.quantity("nu", units::dimensionless);
+  EXPECT_TRUE(key_audit_findings(one, r).empty());
+  const InputNode list = InputNode::load_string("nu: [0.1, 0.2]\n");
+  (void)list.numbers("nu", units::dimensionless);
+  EXPECT_TRUE(key_audit_findings(list, r).empty());
+  (void)one.quantity("at", units::length);
+  EXPECT_EQ(key_audit_findings(one, r).size(), 1u);
+}
+
 TEST(KeyReference, MarkdownHasOneTablePerSectionAndTheSharedTables) {
   std::ostringstream out;
   small_reference().print_markdown(out);

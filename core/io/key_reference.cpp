@@ -204,8 +204,9 @@ namespace {
 bool compatible(KeyKind doc, KeyKind asked) {
   if (doc == asked) return true;
   switch (doc) {
-    case KeyKind::vector:
-    case KeyKind::numbers: return asked == KeyKind::list;  // read element by element
+    case KeyKind::vector: return asked == KeyKind::list;  // read element by element
+    case KeyKind::numbers:  // read element by element, or one value for a key that takes one or a list (a sweep)
+      return asked == KeyKind::list || asked == KeyKind::quantity;
     case KeyKind::choice: return asked == KeyKind::text;   // checked by the reader itself
     case KeyKind::list: return asked == KeyKind::section;  // one entry or a list of them
     case KeyKind::section: return asked == KeyKind::list;
