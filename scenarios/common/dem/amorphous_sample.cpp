@@ -15,6 +15,7 @@
 #include "core/io/hdf5_file.hpp"
 #include "core/io/input.hpp"
 #include "core/io/lammps_data.hpp"
+#include "scenarios/common/dem/cohesive_material_input.hpp"
 #include "scenarios/common/dem/truncated_lognormal.hpp"
 #include "kernels/dem/integrate.hpp"
 #include "scenarios/common/dem/dem_simulation.hpp"
@@ -267,6 +268,96 @@ void read_amorphous_relaxation_keys(const InputNode& r, AmorphousSpec& s) {
     s.box_relaxation_time = p2.quantity("box_relaxation_time", units::dimensionless, s.box_relaxation_time);
     s.max_box_strain = p2.quantity("max_box_strain", units::dimensionless, s.max_box_strain);
   }
+}
+
+void document_amorphous_sample(KeyReference& ref, const std::string& section, const AmorphousSpec& d) {
+  const auto key = [&](const std::string& name) -> KeyDoc& { return ref.key(section + "." + name); };
+  const auto number = [&](const std::string& name, double value) -> KeyDoc& {
+    return key(name).is(KeyKind::quantity).in(units::dimensionless).fallback(shortest_text(value));
+  };
+  number("d_s", d.d_s)
+      .allowed("(0, 1]; d_s d0 >= d_min")
+      .means("smallest diameter of the truncated log-normal size distribution, in units of d0")
+      .eq("A eq 19");
+  number("d_l", d.d_l)
+      .allowed(">= 1 and > d_s; not with d_l_fixed")
+      .means("largest diameter, in units of d0; the log-normal's standard deviation is 0.2 (d_l - d_s)");
+  number("d_l_fixed", d.d_l_fixed)
+      .allowed(">= 0; when > 0, >= d0 / d_c; not with d_l")
+      .means("largest diameter in units of d_c, the same for every d0 (paper A section 4, appendix A.4); 0 uses "
+             "d_l")
+      .eq("A eq 18");
+  number("length", d.length)
+      .allowed("> 0; at least 2 (cutoff + skin) of two d_l particles")
+      .means("L: the periodic box's length along x and y, in units of d0");
+  number("width", d.width)
+      .allowed("> 0; at least 2 (cutoff + skin) of two d_l particles")
+      .means("W: the periodic box's length along z, in units of d0 (the paper's W = 3 d0 is too thin for "
+             "debris's neighbour list)");
+  key("box")
+      .is(KeyKind::list)
+      .fallback_is("L x L x W from length and width")
+      .allowed("three values, each > 0 and at least 2 (cutoff + skin); not with length or width")
+      .means("any periodic box [Lx, Ly, Lz] instead of length and width: plain numbers in units of d0, or three "
+             "lengths with a unit (\"60 nm\", the same box for every d0)");
+  number("volume_fraction", d.volume_fraction)
+      .allowed("(0, 1)")
+      .means("the spheres' volumes summed over the box volume at which random insertion (overlaps allowed) "
+             "stops");
+  key("seed")
+      .is(KeyKind::integer)
+      .fallback(std::to_string(d.seed))
+      .allowed(">= 0")
+      .means("seed of the random diameters and positions: the same seed makes the same sample");
+}
+
+void document_amorphous_relaxation(KeyReference& ref, const std::string& section, const AmorphousSpec& d) {
+  ref.key(section).is(KeyKind::section).fallback_is("optional: the paper's values").means(
+      "the relaxation of paper A section 3.2: phase 1 pushes overlapping spheres apart in a fixed box, phase 2 "
+      "lets the adhesive packing come to rest in a box that moves to relieve its stress");
+  const auto number = [&](const std::string& name, double value) -> KeyDoc& {
+    return ref.key(section + "." + name).is(KeyKind::quantity).in(units::dimensionless).fallback(shortest_text(value));
+  };
+  const auto integer = [&](const std::string& name, long value) -> KeyDoc& {
+    return ref.key(section + "." + name).is(KeyKind::integer).fallback(std::to_string(value));
+  };
+  number("time_step_fraction", d.time_step_fraction)
+      .allowed("(0, 1]")
+      .means("time step of both phases, as a fraction of the critical time step dt_c of the smallest particle")
+      .eq("A eq 6");
+  ref.key(section + ".phase1").is(KeyKind::section).fallback_is("optional").means(
+      "phase 1: repulsive normal force only, global damping, fixed periodic box");
+  integer("phase1.steps", d.phase1_steps).allowed(">= 0").means("steps of phase 1");
+  number("phase1.damping", d.phase1_damping)
+      .allowed(">= 0")
+      .means("global damping of phase 1, as a fraction of the critical damping c_c")
+      .eq("A eq 21");
+  ref.key(section + ".phase2").is(KeyKind::section).fallback_is("optional").means(
+      "phase 2: adhesive normal force, no tangential force, each box length scaled by 1 - (n dt / tau) "
+      "sigma_aa / E every n = check_every steps until the stress is below the threshold");
+  number("phase2.damping", d.phase2_damping)
+      .allowed("> 0")
+      .means("global damping of phase 2, as a fraction of the critical damping c_c")
+      .eq("A eq 21");
+  number("phase2.stress_threshold", d.stress_threshold)
+      .allowed("> 0")
+      .means("phase 2 ends when every counted component of the average virial stress at rest is below this, in "
+             "units of E");
+  ref.key(section + ".phase2.include_shear")
+      .is(KeyKind::boolean)
+      .fallback(d.include_shear ? "true" : "false")
+      .means("count the shear stresses too; the orthogonal box cannot relax them, so phase 2 then ends at "
+             "max_steps");
+  integer("phase2.max_steps", d.phase2_max_steps)
+      .allowed(">= 1")
+      .means("most steps of phase 2; a sample not relaxed by then is an error naming this key");
+  integer("phase2.check_every", d.check_every).allowed(">= 1").means("steps between stress checks and box updates");
+  number("phase2.box_relaxation_time", d.box_relaxation_time)
+      .allowed("> 0")
+      .means("tau of the box rule, in pressure-wave crossing times L_max / sqrt(E / rho)");
+  number("phase2.max_box_strain", d.max_box_strain)
+      .allowed("(0, 0.1]")
+      .means("largest change of a box length per update, as a strain");
 }
 
 std::string amorphous_spec_key(const AmorphousSpec& s) {

@@ -61,6 +61,7 @@ namespace debris {
 
 class DemSimulation;
 class InputNode;
+class KeyReference;
 
 struct AmorphousSpec {
   CohesiveMaterial material = table4_material();
@@ -135,6 +136,13 @@ void read_amorphous_sample_keys(const InputNode& sample, AmorphousSpec& spec);
 /// Reads the `relaxation` section (time_step_fraction, phase1.{steps, damping}, phase2.{damping,
 /// stress_threshold, include_shear, max_steps, check_every, box_relaxation_time, max_box_strain}).
 void read_amorphous_relaxation_keys(const InputNode& relaxation, AmorphousSpec& spec);
+
+/// Describes the keys read_amorphous_sample_keys() reads under `section` ("sample"), with `defaults`' values
+/// (the spec the caller's reader starts from) as their defaults. Neither the section itself nor d0, which
+/// each caller reads its own way (a value, a sweep, a length), is described here.
+void document_amorphous_sample(KeyReference& ref, const std::string& section, const AmorphousSpec& defaults);
+/// Describes `section` ("relaxation") and the keys read_amorphous_relaxation_keys() reads under it.
+void document_amorphous_relaxation(KeyReference& ref, const std::string& section, const AmorphousSpec& defaults);
 
 /// Every value the recipe depends on, as text (doubles to 17 digits): two specs with the same key make the
 /// same sample bit for bit on the same build, so the key can tell a cached sample file from a stale one.
