@@ -4,6 +4,7 @@
 
 #include "core/error.hpp"
 #include "core/io/input.hpp"
+#include "scenarios/amorphous/amorphous_keys.hpp"
 #include "scenarios/common/dem/cohesive_material_input.hpp"
 
 namespace debris {
@@ -56,6 +57,7 @@ AmorphousConfig read_amorphous_config(const std::string& text, const std::string
     if (cfg.threads < 0) throw input_error("run.threads", std::to_string(cfg.threads), "must be >= 0");
   }
   root.reject_unknown_keys();
+  audit_keys(root, amorphous_keys());
 
   // Every sample of the sweep is checked before the first one runs, so a bad d0 fails now, not hours later.
   for (std::size_t k = 0; k < cfg.scalings.size(); ++k) {

@@ -24,8 +24,10 @@
 #include "core/io/thermo_csv.hpp"
 #include "core/thread_tuner.hpp"
 #include "scenarios/amorphous/amorphous_input.hpp"
+#include "scenarios/amorphous/amorphous_keys.hpp"
 #include "scenarios/common/dem/amorphous_sample.hpp"
 #include "scenarios/common/run/gnuplot.hpp"
+#include "scenarios/common/run/reference_flags.hpp"
 
 namespace {
 
@@ -38,34 +40,6 @@ std::string number_tag(double v) {
   os << std::setprecision(6) << v;
   return os.str();
 }
-
-const std::vector<std::string> kRelaxColumns{
-    "phase",      "step",       "max_stress_over_E", "sxx_over_E",     "syy_over_E",
-    "szz_over_E", "sxy_over_E", "sxz_over_E",        "syz_over_E",     "Lx",
-    "Ly",         "Lz",         "volume_fraction",   "kinetic_energy", "max_overlap_over_d_s"};
-
-const std::vector<std::string> kSummaryColumns{"d0_over_dc",
-                                               "scaling",
-                                               "d0",
-                                               "particles",
-                                               "volume_fraction_inserted",
-                                               "volume_fraction_relaxed",
-                                               "phase1_steps",
-                                               "phase2_steps",
-                                               "phase1_max_overlap_over_d_s",
-                                               "sxx_over_E",
-                                               "syy_over_E",
-                                               "szz_over_E",
-                                               "sxy_over_E",
-                                               "sxz_over_E",
-                                               "syz_over_E",
-                                               "max_stress_over_E",
-                                               "box_strain_x",
-                                               "box_strain_y",
-                                               "box_strain_z",
-                                               "mass_scale",
-                                               "dt",
-                                               "wall_seconds"};
 
 void print_progress(const AmorphousProgress& p, const Vec3& len0, double E, bool header) {
   if (header)
@@ -127,7 +101,7 @@ int run(const Options& opt) {
   const fs::path dir = cfg.directory;
   fs::create_directories(dir);
   if (cfg.save_samples) fs::create_directories(dir / "samples");
-  ThermoCsv summary((dir / "summary.csv").string(), kSummaryColumns);
+  ThermoCsv summary((dir / "summary.csv").string(), amorphous_summary_table().header());
   const auto t_all = Clock::now();
 
   for (double s_value : cfg.scalings) {
@@ -142,7 +116,7 @@ int run(const Options& opt) {
                 << " x " << spec.box_length().y / spec.d0_absolute() << " x "
                 << spec.box_length().z / spec.d0_absolute() << " d0, s = " << s_value << ", seed " << spec.seed << std::endl;
 
-      ThermoCsv relax((dir / ("relax_" + tag + ".csv")).string(), kRelaxColumns);
+      ThermoCsv relax((dir / ("relax_" + tag + ".csv")).string(), amorphous_relax_table().header());
       const Vec3 len0 = spec.box_length();
       int last_phase = 0;
       auto observer = [&](const AmorphousProgress& p) {
@@ -224,12 +198,19 @@ int main(int argc, char** argv) {
   if (const int status = debris::refuse_many_processes("debris_amorphous"); status >= 0) return status;
   CLI::App app{"debris_amorphous: relaxed amorphous samples of the cohesive DEM (Pham-Ba & Molinari section 3.2)"};
   Options opt;
-  app.add_option("-i,--input", opt.input, "YAML input file")->required();
+  app.add_option("-i,--input", opt.input, "YAML input file");
   app.add_option("-o,--output", opt.output, "output directory (overrides output.directory)");
   app.add_option("--threads", opt.threads, "number of host threads (overrides run.threads)")
       ->check(CLI::NonNegativeNumber);
   app.footer("Example, from the repository root (one relaxed sample, about a minute):\n"
              "  ./build/bin/debris_amorphous -i scenarios/amorphous/default.yaml -o out/amorphous_default");
+  debris::ReferenceFlags reference;
+  debris::add_reference_flags(app, reference);
   if (const int status = debris::parse_command_line(app, argc, argv); status >= 0) return status;
+  if (debris::print_reference(reference, debris::amorphous_keys(), debris::amorphous_output_columns())) return 0;
+  if (opt.input.empty()) {
+    std::cerr << "debris_amorphous: give an input file (-i sample.yaml); --help for more\n";
+    return debris::kExitInput;
+  }
   return debris::exit_status_of("debris_amorphous", [&] { return run(opt); });
 }
