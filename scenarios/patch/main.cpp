@@ -22,8 +22,10 @@
 #include "core/exec.hpp"
 #include "core/io/progress.hpp"
 #include "core/thread_tuner.hpp"
+#include "scenarios/common/run/reference_flags.hpp"
 #include "scenarios/patch/amorphous_cache.hpp"
 #include "scenarios/patch/patch_input.hpp"
+#include "scenarios/patch/patch_keys.hpp"
 #include "scenarios/patch/patch_report.hpp"
 #include "scenarios/patch/patch_resume.hpp"
 
@@ -203,7 +205,7 @@ int main(int argc, char** argv) {
       "debris_patch: patch tests of the cohesive DEM (Pham-Ba & Molinari, section 3): elastic constants "
       "and strengths of HCP lattices and amorphous samples"};
   Options opt;
-  app.add_option("-i,--input", opt.input, "YAML input file")->required();
+  app.add_option("-i,--input", opt.input, "YAML input file");
   app.add_option("-o,--output", opt.output, "output directory (overrides output.directory)");
   app.add_option("--threads", opt.threads, "number of host threads (overrides threads)")->check(CLI::NonNegativeNumber);
   app.add_flag("--resume", opt.resume,
@@ -211,6 +213,13 @@ int main(int argc, char** argv) {
                "cases of its cases.csv (and their curves), run the others, plot them all");
   app.footer("Example, from the repository root (the elastic patch test over nu, about a minute):\n"
              "  ./build/bin/debris_patch -i scenarios/patch/elastic_nu_sweep.yaml -o out/patch_elastic");
+  debris::ReferenceFlags reference;
+  debris::add_reference_flags(app, reference);
   if (const int status = debris::parse_command_line(app, argc, argv); status >= 0) return status;
+  if (debris::print_reference(reference, debris::patch_keys(), debris::patch_output_columns())) return 0;
+  if (opt.input.empty()) {
+    std::cerr << "debris_patch: give an input file (-i patch.yaml); --help for more\n";
+    return debris::kExitInput;
+  }
   return debris::exit_status_of("debris_patch", [&] { return run(opt); });
 }

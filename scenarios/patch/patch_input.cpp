@@ -13,6 +13,7 @@
 #include "scenarios/common/dem/cohesive_material_input.hpp"
 #include "core/io/lammps_data.hpp"
 #include "scenarios/patch/amorphous_cache.hpp"
+#include "scenarios/patch/patch_keys.hpp"
 
 namespace debris {
 
@@ -259,6 +260,7 @@ PatchConfig read_patch_input_text(const std::string& text, const std::string& na
   cfg.threads = static_cast<int>(root.integer("threads", 0));
   if (cfg.threads < 0) throw input_error("threads", std::to_string(cfg.threads), "must be >= 0");
   root.reject_unknown_keys();
+  audit_keys(root, patch_keys());
 
   // Expand the sweeps: test, sample, nu, s, d0 (innermost), so that each strength-vs-d0 curve is one block.
   std::vector<SampleChoice> samples;

@@ -9,28 +9,19 @@
 #include <filesystem>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 
 #include "core/error.hpp"
 #include "core/io/text_format.hpp"
 #include "core/io/thermo_csv.hpp"
 #include "scenarios/common/run/gnuplot.hpp"
+#include "scenarios/patch/patch_keys.hpp"
 
 namespace debris {
 
 namespace {
 
 namespace fs = std::filesystem;
-
-const char* const kColumns[] = {
-    "case", "test", "sample", "c_axis", "d0_over_dc", "d0", "nu_target", "s", "particles", "deformable", "Lx_over_d0",
-    "Ly_over_d0", "Lz_over_d0", "dt", "status", "steps", "wall_seconds",
-    // elastic (bulk measure, then the walls and whole deformable part)
-    "eps_yy", "sigma_xx", "sigma_yy", "sigma_zz", "C11", "C12", "C13", "E", "nu", "E_dev", "nu_dev", "nu_rel_dev",
-    "eps_yy_walls", "sigma_yy_part", "C11_walls", "C12_walls", "E_walls", "nu_walls",
-    // strength
-    "strength", "target_strength", "strength_over_target", "strain_at_peak", "outcome", "final_over_peak", "curve_file",
-    // the sample: volume fraction, the discretisation study's L, the health check, the elastic pre-stress
-    "volume_fraction", "system_size_over_dc", "initial_overlap_over_r_min", "overlap_limit", "sigma0_xx", "sigma0_yy"};
 
 // A CSV field: quoted when it holds a comma, a quote or a line break.
 std::string field(const std::string& s) {
@@ -57,9 +48,9 @@ std::string short_num(double v) {
 
 std::string patch_cases_header() {
   std::string header;
-  for (const char* c : kColumns) {
+  for (const std::string& c : patch_cases_table().header()) {
     if (!header.empty()) header += ',';
-    header += c;  // appended piecewise: GCC 12 warns falsely (-Wrestrict) on chains of std::string operator+
+    header += c;
   }
   return header;
 }
@@ -136,6 +127,9 @@ void PatchCasesCsv::write(const PatchCaseResult& r) {
   } else {
     f.insert(f.end(), 2, "");
   }
+  if (f.size() != patch_cases_table().columns.size())
+    throw std::logic_error("cases.csv: a row of " + std::to_string(f.size()) + " fields under a header of " +
+                           std::to_string(patch_cases_table().columns.size()) + " columns");
   std::string line;
   for (const std::string& s : f) line += (line.empty() ? "" : ",") + s;
   out_ << line << '\n' << std::flush;
@@ -143,8 +137,7 @@ void PatchCasesCsv::write(const PatchCaseResult& r) {
 }
 
 const std::vector<std::string>& patch_curve_columns() {
-  static const std::vector<std::string> columns{"step",     "strain",   "eps_yy",   "sigma_xx", "sigma_yy",
-                                                "sigma_zz", "sigma_xy", "sigma_xz", "sigma_yz", "kinetic_energy"};
+  static const std::vector<std::string> columns = patch_curve_table().header();
   return columns;
 }
 
