@@ -18,8 +18,10 @@
 #include "core/exit_status.hpp"
 #include "core/io/input.hpp"
 #include "core/io/thermo_csv.hpp"
+#include "scenarios/calibrate/calibrate_keys.hpp"
 #include "scenarios/calibrate/calibration.hpp"
 #include "scenarios/common/dem/cohesive_material_input.hpp"
+#include "scenarios/common/run/reference_flags.hpp"
 
 namespace {
 
@@ -76,14 +78,10 @@ Config read_config(const std::string& path) {
     if (c.threads < 0) throw input_error("run.threads", std::to_string(c.threads), "must be >= 0");
   }
   root.reject_unknown_keys();
+  audit_keys(root, calibrate_keys());
   s.validate();
   return c;
 }
-
-const std::vector<std::string> kColumns{
-    "step",     "runs",     "collapsed",   "E_in",  "nu_in", "tensile_strength_in", "shear_strength_in",
-    "surface_energy_in", "E", "nu", "tensile_strength", "shear_strength", "error_E", "error_nu",
-    "error_tensile", "error_shear", "relaxed_fraction", "seconds"};
 
 std::vector<double> row(double step, int runs, bool collapsed, const CohesiveMaterial& in, const CalibrationMeasure& m,
                         const CohesiveMaterial& target) {
@@ -115,7 +113,7 @@ int run(const Options& opt) {
   const CalibrationSpec& spec = c.spec;
   const fs::path dir(c.directory);
   fs::create_directories(dir);
-  ThermoCsv csv((dir / "calibration.csv").string(), kColumns);
+  ThermoCsv csv((dir / "calibration.csv").string(), calibration_table().header());
   const auto t0 = std::chrono::steady_clock::now();
   int index = 0;
   std::cout << "calibrating for E " << spec.target.youngs_modulus << ", nu " << spec.target.poisson_ratio
@@ -164,7 +162,7 @@ int run(const Options& opt) {
                 r.expected, spec.target);
 
   // The spread: the calibrated inputs on samples of other seeds.
-  ThermoCsv spread((dir / "spread.csv").string(), kColumns);
+  ThermoCsv spread((dir / "spread.csv").string(), spread_table().header());
   spread.write_row(row(static_cast<double>(spec.sample.seed), 0, false, in, r.expected, spec.target));
   std::vector<long> collapsed;
   for (long seed : c.spread_seeds) {
@@ -202,12 +200,19 @@ int main(int argc, char** argv) {
   CLI::App app{"debris_calibrate: cohesive-DEM inputs whose amorphous sample measures the target E, nu and "
                "strengths"};
   Options opt;
-  app.add_option("-i,--input", opt.input, "YAML input file")->required();
+  app.add_option("-i,--input", opt.input, "YAML input file");
   app.add_option("-o,--output", opt.output, "output directory (overrides output.directory)");
   app.add_option("--threads", opt.threads, "number of host threads (overrides run.threads)")
       ->check(CLI::NonNegativeNumber);
   app.footer("Example, from the repository root (Table 4's material on a small sample, about a minute):\n"
              "  ./build/bin/debris_calibrate -i scenarios/calibrate/table4.yaml -o out/calibrate_table4");
+  debris::ReferenceFlags reference;
+  debris::add_reference_flags(app, reference);
   if (const int status = debris::parse_command_line(app, argc, argv); status >= 0) return status;
+  if (debris::print_reference(reference, debris::calibrate_keys(), debris::calibrate_output_columns())) return 0;
+  if (opt.input.empty()) {
+    std::cerr << "debris_calibrate: give an input file (-i calibrate.yaml); --help for more\n";
+    return debris::kExitInput;
+  }
   return debris::exit_status_of("debris_calibrate", [&] { return run(opt); });
 }
