@@ -12,6 +12,36 @@
 
 namespace debris {
 
+const ColumnTable& dump_table() {
+  static const ColumnTable t{
+      "dump.lammpstrj",
+      "LAMMPS `dump custom` text frames (OVITO opens them), every `output.dump_every` steps and at the first and "
+      "the last step; one line per particle, sorted by id, after the frame's step, particle count and box bounds "
+      "(`pp` periodic, `ff` not); the input's units.",
+      {
+          {"id", "-", "the particle's permanent id", ""},
+          {"type", "-", "the particle's type", ""},
+          {"x", "m", "position, wrapped into the box on periodic axes", ""},
+          {"y", "m", "position", ""},
+          {"z", "m", "position", ""},
+          {"radius", "m", "radius", ""},
+          {"vx", "m/s", "velocity", ""},
+          {"vy", "m/s", "velocity", ""},
+          {"vz", "m/s", "velocity", ""},
+          {"fx", "N", "force: the pair forces plus damping and external loads", ""},
+          {"fy", "N", "force", ""},
+          {"fz", "N", "force", ""},
+          {"omegax", "rad/s", "angular velocity", ""},
+          {"omegay", "rad/s", "angular velocity", ""},
+          {"omegaz", "rad/s", "angular velocity", ""},
+          {"ix", "-", "periodic image count along x: the unwrapped x is x + ix L_x", ""},
+          {"iy", "-", "periodic image count along y", ""},
+          {"iz", "-", "periodic image count along z", ""},
+          {"mol", "-", "the particle's label, the body it started in (0: unlabelled); OVITO's Molecule Identifier", ""},
+      }};
+  return t;
+}
+
 DumpWriter::DumpWriter(const std::string& path) : path_(path), out_(path, std::ios::binary | std::ios::trunc) {
   if (!out_) throw output_error(path, std::string("cannot open for writing: ") + std::strerror(errno));
 }
@@ -35,7 +65,9 @@ void DumpWriter::write_frame(long step, const Box& box, const Particles& p) {
     append_number(text, h);
     text += '\n';
   }
-  text += "ITEM: ATOMS id type x y z radius vx vy vz fx fy fz omegax omegay omegaz ix iy iz mol\n";
+  text += "ITEM: ATOMS";
+  for (const std::string& c : dump_table().header()) text += ' ' + c;
+  text += '\n';
   for (std::size_t k : order) {
     append_number(text, p.id[k]);
     text += ' ';

@@ -10,9 +10,13 @@
 #include <string>
 
 #include "core/box.hpp"
+#include "core/io/key_reference.hpp"
 #include "core/particles.hpp"
 
 namespace debris {
+
+/// The columns of a frame's ITEM: ATOMS lines; the writer takes its header from it.
+const ColumnTable& dump_table();
 
 class DumpWriter {
  public:

@@ -17,9 +17,27 @@ PictureUnits PictureUnits::for_extent(double box_extent) {
   return PictureUnits{};
 }
 
+const ColumnTable& side_view_table() {
+  static const ColumnTable t{
+      "side_start.dat, side_end.dat",
+      "With `output.pictures: true`: the particles at the first and the last step, one line per particle after a "
+      "`#` header line, which `pictures.gp` draws as side_view.png. Lengths in nm for a box under 1 mm, else in "
+      "the input's own units.",
+      {
+          {"x", "nm", "position along x (wrapped into the box)", ""},
+          {"y", "nm", "position along y", ""},
+          {"radius", "nm", "radius", ""},
+          {"colour", "-", "the particle's label (the body it started in), else its group + 1; 0 for neither", ""},
+      }};
+  return t;
+}
+
 void write_side_view(const std::string& dir, const std::string& name, const Particles& p, const PictureUnits& u) {
   std::ofstream out(fs::path(dir) / (name + ".dat"));
-  out << "# x y radius (" << u.length_name << ") colour (label, else group + 1)\n";
+  out << '#';
+  for (const std::string& c : side_view_table().header()) out << ' ' << c;
+  out << "  (lengths in " << (u.length_name == "length" ? std::string("the input's units") : u.length_name)
+      << "; colour: the label, else the group + 1)\n";
   for (std::size_t i = 0; i < p.size(); ++i) {
     const int colour = p.label[i] > 0 ? p.label[i] : p.group[i] + 1;
     out << p.x[i] * u.length << ' ' << p.y[i] * u.length << ' ' << p.radius[i] * u.length << ' ' << colour << '\n';

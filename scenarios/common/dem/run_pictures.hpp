@@ -6,6 +6,7 @@
 // with gnuplot when it is installed (Debian: gnuplot-nox); without it the scripts stay for later.
 #include <string>
 
+#include "core/io/key_reference.hpp"
 #include "core/vec3.hpp"
 
 namespace debris {
@@ -21,7 +22,10 @@ struct PictureUnits {
   static PictureUnits for_extent(double box_extent);
 };
 
-/// Writes `<dir>/<name>.dat`: x, y and a colour index per particle (its label, else its group + 1).
+/// The columns of side_start.dat and side_end.dat; write_side_view() takes its header from it.
+const ColumnTable& side_view_table();
+
+/// Writes `<dir>/<name>.dat`: x, y, radius and a colour index per particle (its label, else its group + 1).
 void write_side_view(const std::string& dir, const std::string& name, const Particles& p, const PictureUnits& u);
 
 /// Writes pictures.gp in `dir` (side_view.png from side_start.dat / side_end.dat, tangential_force.png from
