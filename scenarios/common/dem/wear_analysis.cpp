@@ -109,6 +109,64 @@ WearSettings read_wear_settings(const InputNode& n) {
   return s;
 }
 
+void document_wear_settings(KeyReference& r) {
+  const WearSettings d;  // the reader's defaults
+  const auto range = [](double lo, double hi) {
+    std::string t = "[";  // appended: GCC 12 warns falsely (-Wrestrict) on "[" + std::string
+    t += format_value(lo);
+    t += ", ";
+    t += format_value(hi);
+    t += "]";
+    return t;
+  };
+  r.describe_section("wear",
+                     "The wear analysis of a sheared junction (paper A, section 4): every `every` steps it samples "
+                     "each particle's displacement along the sliding axis over the last `window`, as a fraction f of "
+                     "the top wall's, fits the body moving with neither wall by a rigid motion, writes a row of "
+                     "`wear.csv`, and the run ends with its verdict: ductile, detached (not rolling) or rolling wear "
+                     "particle. Every threshold below is a setting.");
+  r.key("wear").is(KeyKind::section).fallback_is("no analysis")
+      .means("the wear analysis of a sheared junction, written to `wear.csv`, with a verdict at the end");
+  r.key("wear.every").is(KeyKind::integer).allowed(">= 1").means("steps between two samples");
+  r.key("wear.bottom_wall").is(KeyKind::text)
+      .allowed("a group of `groups`, not `top_wall`, holding no particle of the junction")
+      .means("the group of the fixed wall: f = 0");
+  r.key("wear.top_wall").is(KeyKind::text)
+      .allowed("a group of `groups`, not `bottom_wall`, holding no particle of the junction")
+      .means("the group of the sliding wall: f = 1; its reaction and displacement head the row");
+  r.key("wear.junction_label").is(KeyKind::text).allowed("a label of `labels` that holds particles")
+      .means("the label of the junction's particles, whose volume is the reference of every share");
+  r.key("wear.sliding_axis").one_of({"x", "y", "z"}).fallback("x").means("the axis the top wall slides along");
+  r.key("wear.normal_axis").one_of({"x", "y", "z"}).fallback("y").allowed("not `sliding_axis`")
+      .means("the axis normal to the sliding surfaces");
+  r.key("wear.persistence").is(KeyKind::quantity).in(units::time).allowed("> 0")
+      .means("diagnostics only: a pair in interaction range at every sample this long counts as a bond");
+  r.key("wear.window").is(KeyKind::quantity).in(units::time).allowed("> 0")
+      .means("the displacements over this last stretch of the run decide (many vibration periods)");
+  r.key("wear.min_volume_fraction").is(KeyKind::quantity).in(units::dimensionless)
+      .fallback(format_value(d.min_volume_fraction)).allowed("(0, 1]")
+      .means("the least share of the junction's volume a wear particle holds");
+  r.key("wear.moving").is(KeyKind::numbers).in(units::dimensionless).fallback(range(d.moving_min, d.moving_max))
+      .allowed("[min, max], 0 < min < max < 1")
+      .means("the particles with min < f < max move with neither wall: the candidate bodies");
+  r.key("wear.centre_speed").is(KeyKind::numbers).in(units::dimensionless)
+      .fallback(range(d.centre_speed_min, d.centre_speed_max)).allowed("[min, max], min < max")
+      .means("a rolling body's centre displacement over the top wall's (rolling without slip: 0.5)");
+  r.key("wear.rolling_number").is(KeyKind::numbers).in(units::dimensionless)
+      .fallback(range(d.rolling_number_min, d.rolling_number_max)).allowed("[min, max], min < max")
+      .means("a rolling body's 2 R omega / v (rolling without slip: 1)");
+  r.key("wear.max_residual").is(KeyKind::quantity).in(units::dimensionless).fallback(format_value(d.max_residual))
+      .allowed("> 0")
+      .means("the most rms residual of the rigid fit over the displacement spread for a rigid body (rigid ~0, "
+             "a sheared layer ~0.7)");
+  r.key("wear.residual_floor").is(KeyKind::quantity).in(units::dimensionless)
+      .fallback(format_value(d.residual_floor)).allowed("> 0")
+      .means("the fit's scale is at least this fraction of the walls' relative displacement over the window");
+  r.key("wear.verdict_span").is(KeyKind::quantity).in(units::time).fallback_is("half of `window`")
+      .allowed(">= 0 (0: the last sample alone)")
+      .means("the verdict needs a rigid candidate at every sample of this last stretch, judged on its means");
+}
+
 WearAnalysis::WearAnalysis(const WearSettings& settings, const DemSimulation& sim) : s_(settings) {
   if (s_.verdict_span < 0) s_.verdict_span = 0.5 * s_.window;
   bottom_ = sim.groups().find(s_.bottom_wall);

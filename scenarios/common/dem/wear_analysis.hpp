@@ -79,6 +79,8 @@ struct WearSettings {
 
 /// Reads the `wear:` section of a debris_dem input (InputError naming the key for anything bad).
 WearSettings read_wear_settings(const InputNode& node);
+/// Describes the keys read_wear_settings() reads, as the section `wear` of `ref`.
+void document_wear_settings(KeyReference& ref);
 
 enum class WearVerdict : int { ductile = 0, detached = 1, rolling = 2 };
 const char* verdict_name(WearVerdict v);
