@@ -15,7 +15,9 @@
 #include "core/exec.hpp"
 #include "core/io/input.hpp"
 #include "core/thread_tuner.hpp"
+#include "scenarios/common/run/reference_flags.hpp"
 #include "scenarios/restitution/restitution_input.hpp"
+#include "scenarios/restitution/restitution_keys.hpp"
 
 namespace {
 
@@ -33,9 +35,9 @@ int run(const std::string& input, const std::string& output, int threads) {
   auto open_csv = [&] {
     csv.open(csv_path);
     if (!csv) throw output_error(csv_path, "cannot create it");
-    csv << "case,bottom_radius_m,top_radius_m,materials,restitution_parameter,time_step_s,initial_speed_m_s,"
-           "paper_C_R,debris_C_R,difference,rebound_height_m,contact_time_s,steps,nodes,broken_bonds,"
-           "bottom_max_damage,top_max_damage,wall_seconds,mesh_h_m,horizon_m\n";
+    const std::vector<std::string> header = restitution_table().header();
+    for (std::size_t k = 0; k < header.size(); ++k) csv << (k ? "," : "") << header[k];
+    csv << '\n';
   };
   std::printf("%-16s %-9s %-7s %5s %8s %7s %9s %9s %8s %8s %8s %8s\n", "case", "(R1,R2)mm", "mat", "eps", "dt_us",
               "v0", "paper", "debris", "diff", "Z_bot", "Z_top", "wall_s");
@@ -75,11 +77,18 @@ int main(int argc, char** argv) {
   CLI::App app{"debris_restitution: PeriDEM two-particle drop tests (paper B, section 4.1)"};
   std::string input, output = "out_restitution";
   int threads = 0;
-  app.add_option("-i,--input", input, "YAML input (cases)")->required();
+  app.add_option("-i,--input", input, "YAML input (cases)");
   app.add_option("-o,--output", output, "output directory");
   app.add_option("--threads", threads, "OpenMP threads (0: default)");
   app.footer("Example, from the repository root (Tables 2-3 of paper B, about a minute):\n"
              "  ./build/bin/debris_restitution -i scenarios/restitution/tables.yaml -o out/restitution");
+  debris::ReferenceFlags reference;
+  debris::add_reference_flags(app, reference);
   if (const int status = debris::parse_command_line(app, argc, argv); status >= 0) return status;
+  if (debris::print_reference(reference, debris::restitution_keys(), debris::restitution_output_columns())) return 0;
+  if (input.empty()) {  // -i is required, except for --keys and --columns
+    std::cerr << "debris_restitution: give an input file (-i cases.yaml); --help for more\n";
+    return debris::kExitInput;
+  }
   return debris::exit_status_of("debris_restitution", [&] { return run(input, output, threads); });
 }

@@ -9,6 +9,7 @@
 #include "core/io/input.hpp"
 #include "core/units.hpp"
 #include "scenarios/common/peridem/peridem_input.hpp"
+#include "scenarios/restitution/restitution_keys.hpp"
 
 namespace debris {
 
@@ -118,6 +119,7 @@ std::vector<RestitutionCase> read_restitution_input_text(const std::string& text
     cases.push_back(k);
   }
   root.reject_unknown_keys();
+  audit_keys(root, restitution_keys());
   if (cases.empty()) throw input_error("cases", "(empty)", "list at least one case");
   return cases;
 }

@@ -55,11 +55,17 @@ void check_name(const std::string& name, const std::string& key) {
 std::string key_of(const InputNode& n, const std::string& key) { return n.path().empty() ? key : n.path() + "." + key; }
 
 /// In 2D every position and velocity lies in the plane z = 0.
-Vec3 planar(const InputNode& n, const std::string& key, u::Dimension dim, Vec3 fallback, int dimension) {
-  const Vec3 v = n.vec3(key, dim, fallback);
+Vec3 in_plane(const InputNode& n, const std::string& key, Vec3 v, int dimension) {
   if (dimension == 2 && v.z != 0)
     throw input_error(key_of(n, key), vec_text(v), "must have z = 0 in a 2D run (dimension: 2)");
   return v;
+}
+Vec3 planar(const InputNode& n, const std::string& key, u::Dimension dim, Vec3 fallback, int dimension) {
+  return in_plane(n, key, n.vec3(key, dim, fallback), dimension);
+}
+/// A key that must be given (or is known to be there): read without a default.
+Vec3 planar(const InputNode& n, const std::string& key, u::Dimension dim, int dimension) {
+  return in_plane(n, key, n.vec3(key, dim), dimension);
 }
 
 
@@ -346,7 +352,7 @@ void set_grain_state(PdNodes& nodes, const PdGrains& grains, int g, Vec3 v, int 
 // walls: (an unnamed one is wall<k>); the wall's grain index is found at run time, on the built system.
 PeridemStageChanges read_stage_changes(const InputNode& st, const std::vector<WallInput>& walls, int dim, double dt) {
   PeridemStageChanges c;
-  if (st.has("gravity")) c.gravity = planar(st, "gravity", u::acceleration, Vec3{}, dim);
+  if (st.has("gravity")) c.gravity = planar(st, "gravity", u::acceleration, dim);
   if (st.has("global_damping")) {
     c.global_damping = st.quantity("global_damping", u::frequency);
     PeridemSimulation::check_global_damping(*c.global_damping, dt, st.path() + ".global_damping");
@@ -368,10 +374,10 @@ PeridemStageChanges read_stage_changes(const InputNode& st, const std::vector<Wa
                         "no such wall (walls: " + (names.empty() ? std::string("none") : names) + ")");
     for (const PeridemStageChanges::WallChange& o : c.walls)
       if (o.name == wc.name) throw input_error(w.path() + ".name", wc.name, "the stage changes this wall twice");
-    if (w.has("velocity")) wc.velocity = planar(w, "velocity", u::velocity, Vec3{}, dim);
+    if (w.has("velocity")) wc.velocity = planar(w, "velocity", u::velocity, dim);
     if (w.has("move_by") && w.has("place"))
       throw input_error(w.path() + ".place", "given with move_by", "give one of place or move_by");
-    if (w.has("move_by")) wc.move_by = planar(w, "move_by", u::length, Vec3{}, dim);
+    if (w.has("move_by")) wc.move_by = planar(w, "move_by", u::length, dim);
     if (w.has("place")) {
       const InputNode p = w.child("place");
       const std::vector<std::string> sides{"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
@@ -485,8 +491,7 @@ PeridemRunConfig read_peridem_input(const InputNode& root, const std::string& ba
       in.shape = g.string("shape");
       const ShapeInput& s = find_shape(shapes, in.shape, g.path() + ".shape");
       in.material = material_index(cfg, g.string("material"), g.path() + ".material");
-      g.vec3("centre", u::length);  // required: a missing centre is an error naming the key
-      const Vec3 c = planar(g, "centre", u::length, Vec3{}, dim);
+      const Vec3 c = planar(g, "centre", u::length, dim);  // required: a missing centre names the key
       in.record.x = c.x, in.record.y = c.y, in.record.z = c.z;
       if (g.has("radius")) {
         in.record.radius = g.quantity("radius", u::length);
