@@ -110,6 +110,20 @@ TEST(RestitutionCli, BadInputsEndWithExitTwoNamingTheKey) {
   }
 }
 
+// --keys and --columns print the manual's tables without an input; a run without -i is exit 2, as before.
+TEST(RestitutionCli, KeysAndColumnsNeedNoInputAndARunDoes) {
+  const Result keys = debris::test::run_command(DEBRIS_RESTITUTION_EXECUTABLE, "--keys");
+  EXPECT_EQ(keys.exit_code, 0) << keys.output;
+  EXPECT_NE(keys.output.find("| `cases.radii` |"), std::string::npos) << keys.output;
+  EXPECT_NE(keys.output.find("| `materials.<name>.horizon` |"), std::string::npos) << keys.output;
+  const Result columns = debris::test::run_command(DEBRIS_RESTITUTION_EXECUTABLE, "--columns");
+  EXPECT_EQ(columns.exit_code, 0) << columns.output;
+  EXPECT_NE(columns.output.find("| `debris_C_R` |"), std::string::npos) << columns.output;
+  const Result none = debris::test::run_command(DEBRIS_RESTITUTION_EXECUTABLE, "");
+  EXPECT_EQ(none.exit_code, 2) << none.output;
+  EXPECT_NE(none.output.find("give an input file"), std::string::npos) << none.output;
+}
+
 // ---------------------------------------------------------------------------------------------------------
 // debris_amorphous: a tiny sample (5 x 4.2 x 3.6 d0, about 100 particles), relaxed to a loose threshold.
 

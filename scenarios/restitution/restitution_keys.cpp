@@ -52,7 +52,7 @@ const KeyReference& restitution_keys() {
         .means("a Gmsh MSH file of a circle about the origin, relative to the input file; scaled to the grain by "
                "its farthest node");
 
-    r.describe_section("cases", "The drops, run in order; every case is checked before the first one runs.");
+    r.describe_section("cases", "The drops, run in order; every case is read before the first one runs.");
     r.key("cases").is(KeyKind::list).allowed("at least one").means("the cases to run");
     r.key("cases.name").is(KeyKind::text).means("the case's name (Table 2 and 3 rows repeat names)");
     r.key("cases.radii").is(KeyKind::numbers).in(u::length).allowed("two, > 0: [bottom, top]")
@@ -66,16 +66,16 @@ const KeyReference& restitution_keys() {
     r.key("cases.initial_speed").is(KeyKind::quantity).in(u::velocity).fallback("0").allowed(">= 0")
         .means("v0: the top grain's downward speed at H0 (the fracture runs); C_R is then measured against "
                "H0 + v0^2 / 2g");
-    r.key("cases.mesh_size").is(KeyKind::quantity).in(u::length).fallback_is("`mesh_size`").allowed("> 0")
+    r.key("cases.mesh_size").is(KeyKind::quantity).in(u::length).fallback_is("the top-level `mesh_size`").allowed("> 0")
         .means("the case's own mesh size (a mesh study)");
     r.key("cases.horizon").is(KeyKind::quantity).in(u::length).fallback_is("the materials' horizons")
         .allowed("> 0").means("the horizon of both grains (a mesh study refines it with the mesh)").eq("B Table 4");
     for (const char* setting : kCaseSettings)
       document_pd_contact_setting(r, std::string("cases.") + setting, setting)
-          .fallback_is(std::string("`") + setting + "`");
-    r.key("cases.start_gap").is(KeyKind::quantity).in(u::length).fallback_is("`start_gap`").allowed("> 0")
+          .fallback_is(std::string("the top-level `") + setting + "`");
+    r.key("cases.start_gap").is(KeyKind::quantity).in(u::length).fallback_is("the top-level `start_gap`").allowed("> 0")
         .means("the case's own H_s");
-    r.key("cases.damping_centre").one_of({"mean", "centre_node"}).fallback_is("`damping_centre`")
+    r.key("cases.damping_centre").one_of({"mean", "centre_node"}).fallback_is("the top-level `damping_centre`")
         .means("the case's own damping centre");
     r.key("cases.meshes").is(KeyKind::list).fallback_is("from `circle_meshes`, else Gmsh's")
         .allowed("two existing files: [bottom, top]")

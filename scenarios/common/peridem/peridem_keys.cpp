@@ -200,7 +200,7 @@ void document_contact(KeyReference& r) {
       .means("the pair, [a, b] (either order)");
   for (const char* setting : kContactSettings)
     document_pd_contact_setting(r, std::string("contact.pairs.") + setting, setting)
-        .fallback_is(std::string("`contact.") + setting + "`");
+        .fallback_is(std::string("the value of `contact.") + setting + "`");
 }
 
 void document_run(KeyReference& r) {
@@ -258,7 +258,7 @@ void document_output(KeyReference& r) {
   r.key("output.trajectory_every").is(KeyKind::integer).fallback("0").allowed(">= 0")
       .means("steps between node frames of the trajectory; 0: the first and last step only");
   r.key("output.checkpoint_every").is(KeyKind::integer).fallback("0").allowed(">= 0")
-      .means("steps between checkpoints; 0: at the end and at stage starts only");
+      .means("steps between checkpoints, written also at each stage's start and at the end; 0: only those");
   r.key("output.progress_seconds").is(KeyKind::quantity).in(u::time).fallback("10").allowed("> 0")
       .means("wall time between progress lines, at least");
   r.key("output.grain_columns").is(KeyKind::integer).fallback("8").allowed(">= 0")
