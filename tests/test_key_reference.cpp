@@ -114,6 +114,18 @@ TEST(KeyAudit, AListOfQuantitiesMayBeReadAsOneValue) {
   EXPECT_EQ(key_audit_findings(one, r).size(), 1u);
 }
 
+TEST(KeyAudit, AKeyThatTakesOneValueOrAListMayBeReadAsEither) {
+  KeyReference r("demo");
+  r.key("fixed").is(KeyKind::boolean).or_a_list().fallback("false").means("fixed axes");
+  r.key("free").is(KeyKind::boolean).fallback("false").means("one value only");
+  const InputNode root = InputNode::load_string("fixed: [x, y]\nfree: [x]\n");
+  (void)root.list("fixed");
+  (void)root.list("free");
+  const std::vector<std::string> f = key_audit_findings(root, r);
+  ASSERT_EQ(f.size(), 1u);
+  EXPECT_NE(f[0].find("'free' is read as list but described as true/false"), std::string::npos);
+}
+
 TEST(KeyReference, MarkdownHasOneTablePerSectionAndTheSharedTables) {
   std::ostringstream out;
   small_reference().print_markdown(out);

@@ -160,6 +160,7 @@ void KeyReference::print_markdown(std::ostream& out) const {
     for (const KeyDoc* d : docs) {
       std::string type = kind_name(d->kind);
       if (!d->table.empty()) type += " (" + d->table + ")";
+      if (d->or_list) type += " or list";
       std::string allowed = d->range;
       if (d->kind == KeyKind::choice) {
         std::string words;
@@ -183,10 +184,21 @@ void KeyReference::print_markdown(std::ostream& out) const {
   for (const KeyDoc& e : entries(""))
     if (std::find(sections.begin(), sections.end(), top_section(e.path)) == sections.end())
       sections.push_back(top_section(e.path));
+  // Keys that stand alone at the top level (a single value, no section below) share one table, first.
+  std::vector<const KeyDoc*> loose;
+  std::vector<std::vector<const KeyDoc*>> grouped;
   for (const std::string& s : sections) {
     std::vector<const KeyDoc*> docs;
     for (const KeyDoc& e : entries(""))
       if (top_section(e.path) == s) docs.push_back(&e);
+    const bool alone = docs.size() == 1 && docs[0]->kind != KeyKind::section && docs[0]->kind != KeyKind::list &&
+                       section_text_.count("/" + s) == 0;
+    if (alone) loose.push_back(docs[0]);
+    else grouped.push_back(docs);
+  }
+  if (!loose.empty()) print_table("", loose, "### Top-level keys", "");
+  for (const auto& docs : grouped) {
+    const std::string s = top_section(docs.front()->path);
     print_table("", docs, "### `" + s + "`", s);
   }
   for (const auto& [table, docs] : tables_) {
@@ -258,7 +270,7 @@ std::vector<std::string> key_audit_findings(const InputNode& root, const KeyRefe
       continue;
     }
     if (a.presence_only) continue;
-    if (!compatible(d->kind, a.kind)) {
+    if (!compatible(d->kind, a.kind) && !(d->or_list && a.kind == KeyKind::list)) {
       finding(name + " is read as " + kind_name(a.kind) + " but described as " + kind_name(d->kind));
       continue;
     }

@@ -41,6 +41,7 @@ struct KeyDoc {
   units::Dimension dim = units::dimensionless;
   std::vector<std::string> choices;
   std::string table;  // shared table the keys below follow ("region"), or empty
+  bool or_list = false;  // also takes a list in place of the one value (`fixed: true` or `fixed: [x, y]`)
 
   enum class Default { required, literal, described };
   Default default_kind = Default::required;
@@ -55,6 +56,7 @@ struct KeyDoc {
   KeyDoc& in(units::Dimension d) { dim = d; return *this; }
   KeyDoc& one_of(std::vector<std::string> c) { kind = KeyKind::choice; choices = std::move(c); return *this; }
   KeyDoc& follows(std::string shared_table) { table = std::move(shared_table); return *this; }
+  KeyDoc& or_a_list() { or_list = true; return *this; }
   /// A default the reader uses as written here (checked against the reader by the audit).
   KeyDoc& fallback(std::string literal) { default_kind = Default::literal; default_text = std::move(literal); return *this; }
   /// A default that depends on other keys or the run, said in words (not checked).

@@ -127,7 +127,7 @@ void document_shapes(KeyReference& r) {
 void document_grain_state(KeyReference& r, const std::string& p) {
   r.key(p + ".velocity").is(KeyKind::vector).in(u::velocity).fallback("[0, 0, 0]").allowed("2D: z = 0")
       .means("the initial velocity of every node");
-  r.key(p + ".fixed").is(KeyKind::boolean).fallback("false").allowed("true, false, or a list of axes [x, y, z]")
+  r.key(p + ".fixed").is(KeyKind::boolean).or_a_list().fallback("false").allowed("true, false, or a list of axes [x, y, z]")
       .means("nodes held at rest: `true` along every axis, a list along the axes named");
 }
 
