@@ -186,7 +186,9 @@ TEST_F(DemCli, MissingDataFile) {
     diameter: 100
     cells: [3, 3, 3]
 )", "  lammps_data: missing.data\n");
-  expect_rejected(yaml, {"missing.data"});
+  // The key and the path it was looked for at, beside the input file (a copied input's usual slip).
+  expect_rejected(yaml, {"'particles.lammps_data' = missing.data", "no such file",
+                         (dir / "missing.data").lexically_normal().string(), "taken from the input file's folder"});
 }
 
 TEST_F(DemCli, MalformedYaml) {

@@ -380,8 +380,20 @@ void read_system(const InputNode& root, const std::string& base_directory, DemRu
     cfg.particles = std::move(lat.particles);
     cfg.box = Box(lat.box.lo(), lat.box.hi(), periodic);
   } else {
-    std::filesystem::path file = parts.string("lammps_data");
+    const std::string given = parts.string("lammps_data");
+    std::filesystem::path file = given;
     if (file.is_relative() && !base_directory.empty()) file = std::filesystem::path(base_directory) / file;
+    // Named by its key, with the path it was looked for at: a relative path follows the input file, not
+    // the working directory, which is what a copied input most often trips over.
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec))
+      throw input_error(parts.path() + ".lammps_data", given,
+                        std::string(std::filesystem::exists(file, ec) ? "is not a file" : "no such file") +
+                            " (looked for at " + file.lexically_normal().string() +
+                            (std::filesystem::path(given).is_relative() && !base_directory.empty()
+                                 ? "; a relative path is taken from the input file's folder"
+                                 : "") +
+                            ")");
     LammpsData data = read_lammps_data(file.string(), periodic);
     cfg.particles = std::move(data.particles);
     cfg.box = Box(data.box.lo(), data.box.hi(), periodic);

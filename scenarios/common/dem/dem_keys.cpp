@@ -173,7 +173,7 @@ void document_run(KeyReference& r) {
 void document_output(KeyReference& r) {
   r.key("output").is(KeyKind::section).fallback_is("every default below").means("what is written, and where");
   r.key("output.directory").is(KeyKind::text).fallback("out")
-      .means("the output directory, created when missing; `-o` overrides it");
+      .means("the output directory, relative to the working directory (input files are read relative to the input file), created when missing; `-o` overrides it");
   r.key("output.thermo_every").is(KeyKind::integer).fallback("100").allowed(">= 1")
       .means("steps between thermo.csv rows, terminal lines and health checks");
   r.key("output.dump_every").is(KeyKind::integer).fallback("0").allowed(">= 0")
@@ -219,12 +219,15 @@ const ColumnTable& dem_thermo_table() {
           {"time", "s", "simulated time", ""},
           {"kinetic_energy", "J", "translational plus rotational kinetic energy of all particles", ""},
           {"elastic_energy", "J",
-           "energy stored in the pair springs: the potential of the normal force (paper A eq 3) plus the "
-           "tangential springs",
+           "energy of the pair springs: the potential of the normal force (paper A eq 3), zero for separated "
+           "pairs and so negative in the cohesive well, plus the tangential springs' energy",
            ""},
           {"max_overlap", "m", "largest interpenetration of an interacting pair (0 when none overlaps)", ""},
           {"interacting_pairs", "-", "pairs within their interaction distance delta_f", ""},
-          {"<group>_fx", "N", "x component of the group's reaction: the sum of the pair forces on its members", ""},
+          {"<group>_fx", "N",
+           "x component of the group's reaction: the sum of the pair forces (springs and damping) on its members, "
+           "external loads left out (a wall pressed down onto the sample reads a positive fy)",
+           ""},
           {"<group>_fy", "N", "y component of the group's reaction", ""},
           {"<group>_fz", "N", "z component of the group's reaction", ""},
           {"<group>_dx", "m", "x displacement of the group's centre of mass since the start of the run", ""},

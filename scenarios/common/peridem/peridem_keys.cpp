@@ -252,7 +252,8 @@ void document_stage_changes(KeyReference& r) {
 void document_output(KeyReference& r) {
   r.key("output").is(KeyKind::section).fallback_is("every setting at its default")
       .means("what is written, and how often");
-  r.key("output.directory").is(KeyKind::text).fallback("out").means("the output directory (`-o` overrides it)");
+  r.key("output.directory").is(KeyKind::text).fallback("out")
+      .means("the output directory, relative to the working directory (`-o` overrides it)");
   r.key("output.thermo_every").is(KeyKind::integer).fallback("100").allowed(">= 1")
       .means("steps between thermo rows, terminal lines and health checks");
   r.key("output.trajectory_every").is(KeyKind::integer).fallback("0").allowed(">= 0")
@@ -305,7 +306,10 @@ const ColumnTable& peridem_thermo_table() {
           {"kinetic_energy", "J", "kinetic energy of the grains' nodes (walls left out)", ""},
           {"bond_energy", "J", "peridynamic strain energy of the grains' bonds", ""},
           {"contact_energy", "J", "energy stored in the node-to-node and node-to-wall contact springs", ""},
-          {"max_damage", "-", "largest damage Z of a node: its largest |bond stretch| / s_0 (paper B eq 14)", ""},
+          {"max_damage", "-",
+           "largest damage Z of a node: its largest |bond stretch| / s_0, broken bonds included, so Z >= 1 where "
+           "a bond has broken and it keeps growing as the pieces part (paper B eq 14)",
+           ""},
           {"broken_bonds", "-", "bonds broken so far", ""},
           {"contact_pairs", "-", "node pairs closer than the contact radius R_c, each counted once", ""},
           {"<wall>_fx", "N", "x component of the total contact force on the wall", ""},
