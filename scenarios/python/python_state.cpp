@@ -81,9 +81,22 @@ void check_dem_edit(const DemSimulation& sim, const std::vector<std::string>& wr
                                        : "must be -1 (no group) or a group's index, 0 to " + std::to_string(groups - 1)) +
                               " (particle id " + std::to_string(p.id[i]) + " at index " + std::to_string(i) + ")");
   }
+  const auto wrote = [&written](const char* name) { return std::find(written.begin(), written.end(), name) != written.end(); };
+  // The neighbour search's reach (the cutoff of two of the largest particles, delta_f included) is fixed at
+  // set-up: a particle grown past it would lose pairs, and the list's next build refuses it mid-run.
+  if (wrote("radius") && p.size() > 0) {
+    const auto largest = std::max_element(p.radius.begin(), p.radius.end());
+    const std::size_t i = static_cast<std::size_t>(largest - p.radius.begin());
+    const double r = *largest;
+    if (CohesiveCutoff{sim.coefficients()}(r, r) > sim.max_cutoff() * (1.0 + 1e-12))
+      throw input_error("state.radius", format_value(r),
+                        "makes particle id " + std::to_string(p.id[i]) + " (index " + std::to_string(i) +
+                            ") larger than the largest particle at set-up: the neighbour search's reach, " +
+                            format_value(sim.max_cutoff()) + " for two of them, is fixed then; give the larger "
+                            "radius in the input");
+  }
   // A smaller radius or a lighter particle shortens eq 6's critical time step, which the input's time step
   // was checked against at set-up.
-  const auto wrote = [&written](const char* name) { return std::find(written.begin(), written.end(), name) != written.end(); };
   if ((wrote("radius") || wrote("mass")) && !sim.settings().allow_unstable_time_step) {
     const StabilityLimits limits = stability_limits(sim.coefficients(), p);
     if (sim.dt() > limits.dt_c) {

@@ -61,14 +61,35 @@ def test_a_bad_dem_edit_is_refused_and_the_run_goes_on_unedited(tmp_path, case):
 
 
 def test_a_good_dem_edit_still_acts(tmp_path):
-    # The checks refuse only what no input could give: a larger radius is taken, and changes the run.
+    # The checks refuse only what no input could give: a smaller radius is taken, and the run goes on with it.
     values = _hcp(tmp_path)
     sim = debris.Dem(values, output=str(tmp_path / "py"), quiet=True)
     i, _ = _free(sim)
     r = float(sim.state.radius[i])
     with sim.edit() as state:
-        state.radius[i] = 1.01 * r
-    assert sim.state.radius[i] == 1.01 * r
+        state.radius[i] = 0.99 * r
+    assert sim.state.radius[i] == 0.99 * r
+    sim.run(20, finish=False)
+    assert sim.step == 20
+    assert 0.99 * r in np.asarray(sim.state.radius)
+
+
+def test_a_particle_grown_past_the_largest_at_set_up_is_refused(tmp_path):
+    # The neighbour search's reach is fixed at set-up for its largest pair: a grown particle would lose pairs
+    # (and the list's next build would stop the run). Refused at the edit, with positions written too (whose
+    # rebuild re-sorts the columns), and the run goes on unedited.
+    sim = debris.Dem(_hcp(tmp_path), output=str(tmp_path / "py"), quiet=True)
+    i, _ = _free(sim)
+    r = float(np.asarray(sim.state.radius).max())
+    for with_positions in (False, True):
+        with pytest.raises(debris.InputError, match=r"'state\.radius' = .*larger than the largest particle at set-up"):
+            with sim.edit() as state:
+                state.radius[i] = 1.01 * r
+                if with_positions:
+                    state.x[i] = state.x[i]
+        assert float(np.asarray(sim.state.radius).max()) == r
+    sim.run(20, finish=False)
+    assert sim.step == 20
 
 
 def test_a_lighter_particle_is_checked_against_the_time_step(tmp_path):
