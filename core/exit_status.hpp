@@ -57,6 +57,9 @@ inline int exit_status_of(const std::string& program, const std::function<int()>
   } catch (const OutputError& e) {
     std::cerr << program << ": stopped: " << e.what() << std::endl;
     return kExitUnfinished;
+  } catch (const RunStop& e) {
+    std::cerr << program << ": stopped: " << e.what() << std::endl;
+    return kExitUnfinished;
   } catch (const std::bad_alloc&) {
     std::cerr << program << ": stopped: out of memory" << std::endl;
     return kExitUnfinished;

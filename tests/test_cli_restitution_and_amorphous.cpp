@@ -110,6 +110,19 @@ TEST(RestitutionCli, BadInputsEndWithExitTwoNamingTheKey) {
   }
 }
 
+// A case that cannot finish (an unstable time step the input insists on) stops with exit 3, as every
+// executable's runs do, naming why; exit 1 is kept for bugs.
+TEST(RestitutionCli, AnUnstableCaseStopsWithExitThree) {
+  const fs::path dir = debris::test::fresh_directory("debris_restitution_cli_unstable");
+  // The input allows unstable time steps; 0.5 us is 2.6 times the stable estimate, 0.19 us: the contact gains
+  // energy and the grain rebounds higher than it fell.
+  const Result r = run_restitution(dir, replace(restitution_input(), "time_step: 0.2 us", "time_step: 0.5 us"));
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("debris_restitution: stopped: the top grain rebounded with C_R ="), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("is unstable for these grains"), std::string::npos) << r.output;
+}
+
 // --keys and --columns print the manual's tables without an input; a run without -i is exit 2, as before.
 TEST(RestitutionCli, KeysAndColumnsNeedNoInputAndARunDoes) {
   const Result keys = debris::test::run_command(DEBRIS_RESTITUTION_EXECUTABLE, "--keys");

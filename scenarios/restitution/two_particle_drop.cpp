@@ -146,14 +146,14 @@ TwoParticleDropResult run_two_particle_drop(const TwoParticleDrop& spec) {
                       touched ? "steps were not enough for the top grain to leave the bottom one"
                               : "steps were not enough for the grains to touch");
   const std::string health = sim.health_check();
-  if (!health.empty()) throw std::runtime_error(health);
+  if (!health.empty()) throw RunStop(health);  // exit 3: a run that cannot finish, not a bug
   // Eq 37 (with an initial speed, the height it would have fallen from at rest: H0 + v0^2 / 2g).
   r.restitution_coefficient =
       std::sqrt(r.rebound_height / (spec.drop_height + spec.initial_speed * spec.initial_speed / (2.0 * spec.gravity)));
   // Energy can only be lost: a rebound above the drop height means the run was unstable (possible only with
   // allow_unstable_time_step), and its numbers mean nothing.
   if (!(r.restitution_coefficient < 1.02))
-    throw std::runtime_error("the top grain rebounded with C_R = " + format_value(r.restitution_coefficient) +
+    throw RunStop("the top grain rebounded with C_R = " + format_value(r.restitution_coefficient) +
                              " > 1: the contact gained energy, so the time step " + format_value(spec.time_step) +
                              " s is unstable for these grains (stable estimate " + format_value(sim.stable_time_step()) +
                              " s)");
