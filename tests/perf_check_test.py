@@ -314,7 +314,7 @@ class PerfCheckTest(unittest.TestCase):
     def test_25_percent_slower_fails_on_every_cpu_kind(self):
         with open(REPOSITORY_BASELINE) as f:
             kinds = perf_check.baseline_entries(json.load(f))
-        self.assertGreaterEqual(len(kinds), 2, "the repository's baseline file has the AMD and Intel kinds")
+        self.assertGreaterEqual(len(kinds), 2, "the repository's baseline file has baselines for an AMD and an Intel CPU")
         real, cpu = expected_ratios(rates_spec())
         base = self.make_base_bench(rates_spec())
         for kind in kinds + [None]:
