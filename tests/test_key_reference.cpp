@@ -99,10 +99,11 @@ TEST(KeyAudit, ADefaultGivenWithAUnitIsComparedInSi) {
 }
 
 // A key that takes one value or a list of them (a sweep: debris_patch's poisson_ratio) is described as a
-// list of quantities and read as one quantity or as the list; a vector stays read element by element only.
+// quantity that may be a list, and read as one quantity or as the list; a vector stays read element by
+// element only.
 TEST(KeyAudit, AListOfQuantitiesMayBeReadAsOneValue) {
   KeyReference r("demo");
-  r.key("nu").is(KeyKind::numbers).means("one value or a sweep");
+  r.key("nu").is(KeyKind::quantity).or_a_list().means("one value or a sweep");
   r.key("at").is(KeyKind::vector).in(units::length).means("a point");
   const InputNode one = InputNode::load_string("nu: 0.1\nat: 1\n");
   (void)one.quantity("nu", units::dimensionless);

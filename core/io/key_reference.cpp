@@ -216,9 +216,8 @@ namespace {
 bool compatible(KeyKind doc, KeyKind asked) {
   if (doc == asked) return true;
   switch (doc) {
-    case KeyKind::vector: return asked == KeyKind::list;  // read element by element
-    case KeyKind::numbers:  // read element by element, or one value for a key that takes one or a list (a sweep)
-      return asked == KeyKind::list || asked == KeyKind::quantity;
+    case KeyKind::vector:
+    case KeyKind::numbers: return asked == KeyKind::list;  // read element by element
     case KeyKind::choice: return asked == KeyKind::text;   // checked by the reader itself
     case KeyKind::list: return asked == KeyKind::section;  // one entry or a list of them
     case KeyKind::section: return asked == KeyKind::list;
@@ -270,7 +269,10 @@ std::vector<std::string> key_audit_findings(const InputNode& root, const KeyRefe
       continue;
     }
     if (a.presence_only) continue;
-    if (!compatible(d->kind, a.kind) && !(d->or_list && a.kind == KeyKind::list)) {
+    // A key that takes one value or a list of them (`fixed: [x, y]`, a sweep of quantities) may be read as
+    // either form.
+    const bool list_form = a.kind == KeyKind::list || (d->kind == KeyKind::quantity && a.kind == KeyKind::numbers);
+    if (!compatible(d->kind, a.kind) && !(d->or_list && list_form)) {
       finding(name + " is read as " + kind_name(a.kind) + " but described as " + kind_name(d->kind));
       continue;
     }

@@ -41,7 +41,8 @@ struct KeyDoc {
   units::Dimension dim = units::dimensionless;
   std::vector<std::string> choices;
   std::string table;  // shared table the keys below follow ("region"), or empty
-  bool or_list = false;  // also takes a list in place of the one value (`fixed: true` or `fixed: [x, y]`)
+  bool or_list = false;  // also takes a list in place of the one value (`fixed: true` or `fixed: [x, y]`;
+                         // `poisson_ratio: 0.1` or a sweep `[0, 0.1]`)
 
   enum class Default { required, literal, described };
   Default default_kind = Default::required;

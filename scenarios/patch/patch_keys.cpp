@@ -122,14 +122,16 @@ const KeyReference& patch_keys() {
     const CohesiveMaterial table4 = table4_material(0.0);
     document_cohesive_material(r, "material", &table4, false, "optional: Table 4");
     r.key("material.poisson_ratio")
-        .is(KeyKind::numbers)
+        .is(KeyKind::quantity)
+        .or_a_list()
         .in(units::dimensionless)
         .fallback(shortest_text(table4.poisson_ratio))
         .allowed("each in (-1, 0.25]")
         .means("Poisson's ratio nu, or a list of them (a sweep); sets the areas A_N and A_T")
         .eq("A eqs 15-16");
     r.key("material.scaling")
-        .is(KeyKind::numbers)
+        .is(KeyKind::quantity)
+        .or_a_list()
         .in(units::dimensionless)
         .fallback("0")
         .allowed("each in [0, 1]")
@@ -158,7 +160,8 @@ const KeyReference& patch_keys() {
         .allowed("> 0, leaving particles in each wall and between them")
         .means("thickness of each wall, in d0 (hcp) or mean diameters (lammps_data, amorphous)");
     r.key("sample.d0")
-        .is(KeyKind::numbers)
+        .is(KeyKind::quantity)
+        .or_a_list()
         .in(units::dimensionless)
         .fallback_is("required by hcp, and by amorphous without discretisation")
         .allowed("each > 0 and >= d_min / d_c; not with discretisation")
@@ -192,12 +195,14 @@ const KeyReference& patch_keys() {
         .means("amorphous: the study of paper A appendix A.4, systems of size L cut into d0 = L / n (instead of d0 "
                "and length, and of d_l_fixed)");
     r.key("sample.discretisation.size")
-        .is(KeyKind::numbers)
+        .is(KeyKind::quantity)
+        .or_a_list()
         .in(units::dimensionless)
         .allowed("each > 0")
         .means("the system sizes L, in units of d_c");
     r.key("sample.discretisation.divisions")
-        .is(KeyKind::numbers)
+        .is(KeyKind::quantity)
+        .or_a_list()
         .in(units::dimensionless)
         .allowed("each >= 1")
         .means("the numbers n of mode diameters across L (d0 = L / n)");
