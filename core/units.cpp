@@ -40,23 +40,6 @@ const NamedDimension* find_named(Dimension d) {
   return nullptr;
 }
 
-/// "kg m^-1 s^-2"; empty for a dimensionless quantity.
-std::string base_units(Dimension d) {
-  std::string out;
-  const auto add = [&out](const char* symbol, int power) {
-    if (power == 0) return;
-    if (!out.empty()) out += ' ';
-    out += symbol;
-    if (power != 1) {
-      out += '^';  // appended in two steps: "^" + to_string() trips GCC 12's bogus -Wrestrict
-      out += std::to_string(power);
-    }
-  };
-  add("kg", d.mass);
-  add("m", d.length);
-  add("s", d.time);
-  return out;
-}
 
 /// "a length (m)", "an energy (kg m^2 s^-2)": what a unit the user wrote turned out to measure.
 std::string describe(Dimension d) {
@@ -208,6 +191,23 @@ double scale_decimal(const std::string& number, double value, int decade) {
 }
 
 }  // namespace
+
+std::string base_units(Dimension d) {
+  std::string out;
+  const auto add = [&out](const char* symbol, int power) {
+    if (power == 0) return;
+    if (!out.empty()) out += ' ';
+    out += symbol;
+    if (power != 1) {
+      out += '^';  // appended in two steps: "^" + to_string() trips GCC 12's bogus -Wrestrict
+      out += std::to_string(power);
+    }
+  };
+  add("kg", d.mass);
+  add("m", d.length);
+  add("s", d.time);
+  return out;
+}
 
 std::string to_string(Dimension d) {
   if (d == dimensionless) return "dimensionless";

@@ -16,6 +16,9 @@ inline constexpr Dimension dimensionless{0, 0, 0}, length{0, 1, 0}, time{0, 0, 1
     pressure{1, -1, -2}, density{1, -3, 0}, surface_energy{1, 0, -2}, velocity{0, 1, -1},
     acceleration{0, 1, -2}, force{1, 1, -2}, energy{1, 2, -2}, frequency{0, 0, -1};
 
+/// The dimension in SI base units, "kg m^-1 s^-2"; empty for a dimensionless quantity.
+std::string base_units(Dimension d);
+
 /// "pressure (kg m^-1 s^-2)" for a named dimension, "kg m^2 s^-3" otherwise, "dimensionless" for none.
 std::string to_string(Dimension d);
 

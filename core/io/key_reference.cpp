@@ -90,20 +90,7 @@ std::string si_unit(units::Dimension d) {
   if (d == force) return "N";
   if (d == energy) return "J";
   if (d == frequency) return "1/s";
-  std::string out;
-  const auto add = [&](const char* symbol, int power) {
-    if (power == 0) return;
-    if (!out.empty()) out += ' ';
-    out += symbol;
-    if (power != 1) {
-      out += '^';
-      out += std::to_string(power);
-    }
-  };
-  add("kg", d.mass);
-  add("m", d.length);
-  add("s", d.time);
-  return out;
+  return base_units(d);
 }
 
 KeyDoc& KeyReference::key(const std::string& path, const std::string& table) {
