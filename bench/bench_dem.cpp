@@ -122,9 +122,9 @@ struct DemSystem {
   double contacts_per_particle = 0;  // interacting neighbours per particle in the snapshot
 };
 
-DemSystem& dem_system(int n) {
-  static std::map<int, std::unique_ptr<DemSystem>> cache;
-  auto& slot = cache[n];
+DemSystem& dem_system(int n, bool energy = true) {
+  static std::map<std::pair<int, bool>, std::unique_ptr<DemSystem>> cache;
+  auto& slot = cache[{n, energy}];
   if (slot) return *slot;
   auto s = std::make_unique<DemSystem>();
   s->n = n;
@@ -150,6 +150,7 @@ DemSystem& dem_system(int n) {
   settings.material = table4_material();
   settings.time_step_fraction = 0.1;
   settings.global_damping = 0.0;
+  settings.energy_accounting = energy;
   Box box(lat.box.lo(), lat.box.hi(), {true, true, true});
   s->sim = std::make_unique<DemSimulation>(box, std::move(p), Groups{}, settings);
   s->sim->run(kEngineWarmUpSteps);
@@ -297,10 +298,10 @@ void BM_CohesivePass(benchmark::State& state) {
   state.counters["B_table_scratch"] = static_cast<double>(s.table.bytes() + s.scratch.bytes()) / n;
 }
 
-void BM_Step(benchmark::State& state) {
+void step_benchmark(benchmark::State& state, bool energy) {
   const int n = static_cast<int>(state.range(0));
   exec::set_threads(static_cast<int>(state.range(1)));
-  DemSystem& s = dem_system(n);
+  DemSystem& s = dem_system(n, energy);
   DemSimulation& sim = *s.sim;
   const long rebuilds0 = sim.times().rebuilds;
   exec::reset_transfer_stats();
@@ -324,6 +325,13 @@ void BM_Step(benchmark::State& state) {
   if (first_non_finite(std::as_const(sim).particles()) >= 0) state.SkipWithError("the simulation blew up");
   set_engine_counters(state, s, sim, true);
 }
+
+// The whole step without the energy accounting (`output.energy: false`; the regression check's subset, the
+// same work as before the accounting existed), and with it, as debris_dem runs by default: the accounting's
+// cost is the ratio of the two (interleave them: --benchmark_enable_random_interleaving=true
+// --benchmark_repetitions=5).
+void BM_Step(benchmark::State& state) { step_benchmark(state, false); }
+void BM_StepWithEnergy(benchmark::State& state) { step_benchmark(state, true); }
 
 void BM_Rebuild(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
@@ -465,6 +473,7 @@ BENCHMARK(BM_NeighborBuild)->Apply(dem_args);
 BENCHMARK(BM_CohesivePass)->Apply(dem_args);
 BENCHMARK(BM_CohesivePassFullList)->Apply(dem_args);
 BENCHMARK(BM_Step)->Apply(step_args);
+BENCHMARK(BM_StepWithEnergy)->Apply(step_args);
 BENCHMARK(BM_Rebuild)->Apply(dem_args);
 
 }  // namespace

@@ -21,7 +21,13 @@ namespace debris {
   X(wx) X(wy) X(wz)    /* angular velocity */                                       \
   X(fx) X(fy) X(fz)    /* force of the current step */                              \
   X(tx) X(ty) X(tz)    /* torque of the current step */                             \
-  X(radius) X(mass) X(inertia)
+  X(radius) X(mass) X(inertia)                                                     \
+  /* energy taken out by each mechanism since the start, and the work the drives did (kernels/dem/    */ \
+  /* energy_accounting.hpp), cumulative                                                              */ \
+  X(dissipated_normal) X(dissipated_tangential) X(dissipated_sliding) X(dissipated_global)          \
+  X(tangential_work) X(drive_work)                                                                   \
+  /* ... their shares of the integration to come, added to the above when it runs                    */ \
+  X(pending_normal) X(pending_tangential) X(pending_global) X(pending_tangential_work) X(pending_drive)
 #define DEBRIS_PARTICLE_INT_FIELDS(X) \
   X(type)              /* material / output type, >= 1 as in LAMMPS */              \
   X(group)             /* index of the motion group, -1 for a free particle */      \
@@ -114,6 +120,11 @@ class Particles {
 #undef DEBRIS_VISIT
   }
 };
+
+/// Everything dissipated at particle i so far (the dump's and trajectory's `dissipated`).
+inline double particle_dissipated(const Particles& p, std::size_t i) {
+  return p.dissipated_normal[i] + p.dissipated_tangential[i] + p.dissipated_sliding[i] + p.dissipated_global[i];
+}
 
 /// Transfer points for every column (no-ops in host builds): device -> host before the host reads the
 /// particles (output, checkpoints, analysis), host -> device after it changed them.

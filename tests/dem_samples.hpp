@@ -10,9 +10,9 @@ namespace debris::test {
 
 /// A sheared, loaded HCP block (5 x 4 x 2 cells, periodic in x and z) with a frozen base, a rigid top under a
 /// load and a free probe group: rebuilds, re-sorts, history carry-over, group sums and global damping all
-/// take part. wide: every third free particle shrunk to d = 45 (size ratio 2.3), so the neighbour search
+/// take part. energy: the energy accounting on. wide: every third free particle shrunk to d = 45 (size ratio 2.3), so the neighbour search
 /// uses size classes and the default skin follows the mean radius; otherwise a small skin (many rebuilds).
-inline DemSimulation sheared_dem_system(PairPass pass = PairPass::automatic, bool wide = false) {
+inline DemSimulation sheared_dem_system(PairPass pass = PairPass::automatic, bool wide = false, bool energy = true) {
   LatticeSpec l;
   l.kind = LatticeKind::hcp;
   l.spacing = 100;
@@ -45,6 +45,7 @@ inline DemSimulation sheared_dem_system(PairPass pass = PairPass::automatic, boo
   s.global_damping = 0.02;
   s.skin = wide ? 0.0 : 0.5;  // small: many rebuilds (on both sides of a checkpoint)
   s.pair_pass = pass;
+  s.energy_accounting = energy;
   return DemSimulation(box, p, g, s);
 }
 

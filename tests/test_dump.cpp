@@ -49,6 +49,9 @@ Particles sample() {
     p.iy[i] = 0;
     p.iz[i] = 1000 * static_cast<int>(i);
     p.label[i] = static_cast<int>(2 - i);  // 0 (unlabelled) for the last one
+    p.dissipated_normal[i] = 1.0 / 3.0 * static_cast<double>(i);  // the dump's dissipated adds the four
+    p.dissipated_sliding[i] = 1e-20;
+    p.tangential_work[i] = -2.0 / 7.0;
   }
   p.label_names = {"bottom", "top"};
   return p;
@@ -79,22 +82,23 @@ TEST(DumpWriter, TwoFramesParseBackExactly) {
     EXPECT_EQ(numbers_of(lines[o + 5]), (std::vector<double>{-1, 1}));
     EXPECT_EQ(numbers_of(lines[o + 6]), (std::vector<double>{0, 1.0 / 3.0}));
     EXPECT_EQ(numbers_of(lines[o + 7]), (std::vector<double>{-2.5, 2.5}));
-    EXPECT_EQ(lines[o + 8], "ITEM: ATOMS id type x y z radius vx vy vz fx fy fz omegax omegay omegaz ix iy iz mol");
+    EXPECT_EQ(lines[o + 8], "ITEM: ATOMS id type x y z radius vx vy vz fx fy fz omegax omegay omegaz ix iy iz mol dissipated tangential_work");
     for (std::size_t row = 0; row < p.size(); ++row) {
       const std::size_t i = order[row];
       const std::vector<double> v = numbers_of(lines[o + 9 + row]);
-      ASSERT_EQ(v.size(), 19u);
+      ASSERT_EQ(v.size(), 21u);
       const double x = (f == 0 && i == 0) ? 0.1 : p.x[i];
       const std::vector<double> expected = {static_cast<double>(p.id[i]), static_cast<double>(p.type[i]),
                                             x, p.y[i], p.z[i], p.radius[i], p.vx[i], p.vy[i], p.vz[i],
                                             p.fx[i], p.fy[i], p.fz[i], p.wx[i], p.wy[i], p.wz[i],
                                             static_cast<double>(p.ix[i]), static_cast<double>(p.iy[i]),
-                                            static_cast<double>(p.iz[i]), static_cast<double>(p.label[i])};
+                                            static_cast<double>(p.iz[i]), static_cast<double>(p.label[i]),
+                                            particle_dissipated(p, i), p.tangential_work[i]};
       EXPECT_EQ(v, expected) << "frame " << f << " row " << row;
     }
   }
   EXPECT_EQ(lines[9].substr(0, 4), "4 1 ");  // ids and types are written as integers
-  EXPECT_TRUE(lines[9].ends_with(" 0 0 1000 1")) << lines[9];  // so are ix iy iz mol (id 4)
+  EXPECT_TRUE(lines[9].find(" 0 0 1000 1 ") != std::string::npos) << lines[9];  // so are ix iy iz mol (id 4)
 }
 
 TEST(DumpWriter, ReopeningTruncates) {

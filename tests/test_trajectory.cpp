@@ -435,7 +435,7 @@ TEST(TrajectoryWriter, XmfListsEveryFrameWithRelativeReferences) {
   for (auto it = std::sregex_iterator(x.begin(), x.end(), ref_re); it != std::sregex_iterator(); ++it, ++refs) {
     EXPECT_EQ((*it)[1].str(), "run.h5");
   }
-  EXPECT_EQ(refs, 3 * 10);
+  EXPECT_EQ(refs, 3 * 12);
 }
 
 TEST(TrajectoryWriter, NewWriterTruncatesAndListsNoFrame) {

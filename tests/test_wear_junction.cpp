@@ -6,6 +6,7 @@
 // of test_wear_analysis.cpp and their threshold-boundary cases rule out.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -57,6 +58,13 @@ TEST_P(WearJunction, VerdictOfTheFullRun) {
   EXPECT_EQ(static_cast<int>(last[column(wear, "verdict")]), c.verdict)
       << r.output.substr(r.output.find("wear: verdict"));
   EXPECT_NEAR(last[column(wear, "wall_slide")] * 1e9, 100.0, 1e-6);  // the top wall slid 10 m/s x 10 ns exactly
+  // Where the work of the load and the slide went: the balance closes within 1% of the work in.
+  const std::string thermo = debris::test::slurp(out / "thermo.csv");
+  const std::vector<double> end = last_row(thermo);
+  const double in = end[column(thermo, "work_in")], residual = end[column(thermo, "energy_residual")];
+  EXPECT_GT(in, 0.0);
+  EXPECT_LT(std::abs(residual), 0.01 * in) << "work in " << in << " J, residual " << residual << " J";
+  EXPECT_GT(end[column(thermo, "dissipated_sliding")], 0.0);
 }
 
 INSTANTIATE_TEST_SUITE_P(D0SixNm, WearJunction,

@@ -38,6 +38,14 @@ const ColumnTable& dump_table() {
           {"iy", "-", "periodic image count along y", ""},
           {"iz", "-", "periodic image count along z", ""},
           {"mol", "-", "the particle's label, the body it started in (0: unlabelled); OVITO's Molecule Identifier", ""},
+          {"dissipated", "J",
+           "energy dissipated at this particle since the start: half of each of its pairs' damping and sliding "
+           "losses, and the global damping of its own motion (0 without the energy accounting)",
+           ""},
+          {"tangential_work", "J",
+           "work the relative motion did against the tangential forces of its pairs since the start, half of each "
+           "pair's",
+           ""},
       }};
   return t;
 }
@@ -78,6 +86,10 @@ void DumpWriter::write_frame(long step, const Box& box, const Particles& p) {
       append_number(text, v);
     }
     for (int v : {p.ix[k], p.iy[k], p.iz[k], p.label[k]}) {
+      text += ' ';
+      append_number(text, v);
+    }
+    for (double v : {particle_dissipated(p, k), p.tangential_work[k]}) {
       text += ' ';
       append_number(text, v);
     }

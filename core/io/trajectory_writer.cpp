@@ -54,6 +54,7 @@ void TrajectoryWriter::write_frame(long step, double time, const Box& box, const
 void TrajectoryWriter::write_frame(long step, double time, const Box& box, const Particles& p, const FrameShare& share) {
   const std::size_t n = share.which.size();
   std::vector<double> position(3 * n), velocity(3 * n), force(3 * n), omega(3 * n), radius(n);
+  std::vector<double> dissipated(n), tangential_work(n);
   std::vector<std::int64_t> id(n);
   std::vector<std::int32_t> type(n), group(n), image(3 * n), label(n);
   const int groups = static_cast<int>(group_names_.size());
@@ -67,6 +68,8 @@ void TrajectoryWriter::write_frame(long step, double time, const Box& box, const
     image[3 * r] = p.ix[i], image[3 * r + 1] = p.iy[i], image[3 * r + 2] = p.iz[i];
     label[r] = p.label[i];
     radius[r] = p.radius[i];
+    dissipated[r] = particle_dissipated(p, i);
+    tangential_work[r] = p.tangential_work[i];
     id[r] = p.id[i];
     type[r] = p.type[i];
     group[r] = p.group[i];
@@ -98,6 +101,8 @@ void TrajectoryWriter::write_frame(long step, double time, const Box& box, const
       g.write_rows<double>("angular_velocity", omega, three);
       g.write_rows<std::int32_t>("image", image, three);
       g.write_rows<std::int32_t>("label", label, one);
+      g.write_rows<double>("dissipated", dissipated, one);
+      g.write_rows<double>("tangential_work", tangential_work, one);
       // The legend of `label`, per frame: it travels with the particles (Particles::label_names).
       g.write_strings("label_names", p.label_names);
       const Vec3 lo = box.lo(), hi = box.hi();
@@ -132,6 +137,7 @@ void TrajectoryWriter::write_xmf() const {
     };
     for (const Field& a : {Field{"id", false, "Int", 8}, Field{"type", false, "Int", 4}, Field{"radius", false, "Float", 8},
                            Field{"group", false, "Int", 4}, Field{"label", false, "Int", 4},
+                           Field{"dissipated", false, "Float", 8}, Field{"tangential_work", false, "Float", 8},
                            Field{"velocity", true, "Float", 8}, Field{"force", true, "Float", 8},
                            Field{"angular_velocity", true, "Float", 8}, Field{"image", true, "Int", 4}})
       xdmf::attribute(x, a.name, a.vector, n, a.number_type, a.precision, frame + a.name);

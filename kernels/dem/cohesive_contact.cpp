@@ -11,9 +11,73 @@
 
 namespace debris {
 
+namespace {
+
+// The full-list pass with the energy parts: each row's own sums, from its own evaluation of each pair (both
+// ends evaluate every pair, so each particle gets each of its pairs' energies, as the half-list pass gives).
+void cohesive_contact_pass_energy(const CohesiveCoefficients& c, const CohesiveOptions& opt, const BoxView& box,
+                                  Particles& p, const NeighborList& list, ContactHistory& history, double dt,
+                                  int update_history, const PairEnergyOut& energy) {
+  const int n = list.rows();
+  const int* __restrict offset = list.offset().data();
+  const int* __restrict index = list.index().data();
+  const double *__restrict x = p.x.data(), *__restrict y = p.y.data(), *__restrict z = p.z.data();
+  const double *__restrict vx = p.vx.data(), *__restrict vy = p.vy.data(), *__restrict vz = p.vz.data();
+  const double *__restrict wx = p.wx.data(), *__restrict wy = p.wy.data(), *__restrict wz = p.wz.data();
+  const double *__restrict radius = p.radius.data(), *__restrict mass = p.mass.data();
+  double *__restrict fx = p.fx.data(), *__restrict fy = p.fy.data(), *__restrict fz = p.fz.data();
+  double *__restrict tx = p.tx.data(), *__restrict ty = p.ty.data(), *__restrict tz = p.tz.data();
+  double *__restrict hx = history.hx.data(), *__restrict hy = history.hy.data(), *__restrict hz = history.hz.data();
+  double* __restrict e = energy.rows;
+  const CohesiveCoefficients coef = c;
+  const CohesiveOptions o = opt;
+  const BoxView b = box;
+  DEBRIS_RESIDENT(offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius, mass, fx, fy, fz, tx, ty, tz, hx, hy, hz, e);
+  DEBRIS_KERNEL
+  for (int i = 0; i < n; ++i) {
+    const Vec3 xi{x[i], y[i], z[i]}, vi{vx[i], vy[i], vz[i]}, wi{wx[i], wy[i], wz[i]};
+    const double ri = radius[i], mi = mass[i];
+    Vec3 f{}, t{}, dn{}, dtg{}, dtq{};
+    double s_n = 0, s_t = 0, s_s = 0, s_w = 0;
+    for (int k = offset[i]; k < offset[i + 1]; ++k) {
+      const int j = index[k];
+      const Vec3 dx = minimum_image(b, xi - Vec3{x[j], y[j], z[j]});
+      const CohesivePairParams pp = cohesive_pair_params(coef, ri, radius[j], mi, mass[j]);
+      const CohesivePair pair{dx, ri, radius[j], pp.delta_f, pp.c_n, vi - Vec3{vx[j], vy[j], vz[j]},
+                              wi, Vec3{wx[j], wy[j], wz[j]}, Vec3{hx[k], hy[k], hz[k]}, i < j};
+      const CohesivePairResult r = cohesive_pair_force(coef, o, pair, dt, update_history);
+      hx[k] = r.history.x;
+      hy[k] = r.history.y;
+      hz[k] = r.history.z;
+      f += r.force;
+      t += r.torque;
+      dn += r.damping_n;
+      dtg += r.damping_t;
+      dtq += r.damping_torque;
+      s_n += r.dissipated_normal;
+      s_t += r.dissipated_tangential;
+      s_s += r.dissipated_sliding;
+      s_w += r.tangential_work;
+    }
+    fx[i] += f.x;
+    fy[i] += f.y;
+    fz[i] += f.z;
+    tx[i] += t.x;
+    ty[i] += t.y;
+    tz[i] += t.z;
+    double* ei = e + kPairEnergyColumns * i;
+    ei[kDampNx] = dn.x, ei[kDampNy] = dn.y, ei[kDampNz] = dn.z;
+    ei[kDampTx] = dtg.x, ei[kDampTy] = dtg.y, ei[kDampTz] = dtg.z;
+    ei[kDampTorqueX] = dtq.x, ei[kDampTorqueY] = dtq.y, ei[kDampTorqueZ] = dtq.z;
+    ei[kPairDissNormal] = s_n, ei[kPairDissTangential] = s_t, ei[kPairDissSliding] = s_s, ei[kPairTangentialWork] = s_w;
+  }
+}
+
+}  // namespace
+
 void cohesive_contact_pass(const CohesiveCoefficients& c, const CohesiveOptions& opt, const BoxView& box,
                            Particles& p, const NeighborList& list, ContactHistory& history, double dt,
-                           int update_history) {
+                           int update_history, const PairEnergyOut* energy) {
   if (list.kind() != NeighborKind::full) throw std::logic_error("cohesive_contact_pass needs a full list");
   const int n = list.rows();
   const int* __restrict offset = list.offset().data();
@@ -28,6 +92,7 @@ void cohesive_contact_pass(const CohesiveCoefficients& c, const CohesiveOptions&
   const CohesiveCoefficients coef = c;
   const CohesiveOptions o = opt;
   const BoxView b = box;
+  if (energy) return cohesive_contact_pass_energy(c, opt, box, p, list, history, dt, update_history, *energy);
   DEBRIS_RESIDENT(offset, index, x, y, z, vx, vy, vz, wx, wy, wz, radius, mass, fx, fy, fz, tx, ty, tz, hx, hy, hz);
   DEBRIS_KERNEL
   for (int i = 0; i < n; ++i) {

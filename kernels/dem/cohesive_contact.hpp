@@ -14,9 +14,10 @@ class NeighborList;
 class ContactHistory;
 
 /// Adds the pair forces and torques to f and t. update_history = 0 only for the set-up evaluation.
+/// `energy` (nullptr: none) is set to each particle's sums of its pairs' energy parts.
 void cohesive_contact_pass(const CohesiveCoefficients& c, const CohesiveOptions& opt, const BoxView& box,
                            Particles& p, const NeighborList& list, ContactHistory& history, double dt,
-                           int update_history);
+                           int update_history, const PairEnergyOut* energy = nullptr);
 
 /// Diagnostics over a full or half list (no history update). `scope` (core/block_sums.hpp): a run cut among
 /// ranks counts a pair on the rank that owns its end of lower id (one rank of the two that hold it), and

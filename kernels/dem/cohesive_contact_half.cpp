@@ -1,6 +1,7 @@
 #include "kernels/dem/cohesive_contact_half.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -27,21 +28,39 @@ struct PairInputs {
 };
 
 // Phase 1 results of at most kChunkPairs pairs: small enough to stay in L1 between the vector loop that
-// writes them and the scalar sweep that hands them out.
+// writes them and the scalar sweep that hands them out. E: the energy parts each pair also gives (0, or
+// kPairEnergyColumns with the accounting on, and the partner's in ej).
 constexpr int kChunkPairs = 256;
 constexpr int kRowRun = 8;
+// With the energy parts a chunk holds 25 doubles per pair instead of 9: half as many pairs keep it in L1.
+template <int E>
+constexpr int chunk_pairs = E > 0 ? kChunkPairs / 2 : kChunkPairs;
+constexpr int kE = kPairEnergyColumns;  // a particle's energy parts are contiguous: a partner's in one place
+template <int E>
 struct ChunkBuffer {
-  alignas(64) int row[kChunkPairs + kRowRun];  // i of each pair, from the list's offsets (no column kept)
-  alignas(64) double fx[kChunkPairs], fy[kChunkPairs], fz[kChunkPairs];
-  alignas(64) double tix[kChunkPairs], tiy[kChunkPairs], tiz[kChunkPairs];
-  alignas(64) double tjx[kChunkPairs], tjy[kChunkPairs], tjz[kChunkPairs];
+  static constexpr int J = E;  // the partner's parts: the damping forces negated, its torque, the same energies
+  static constexpr int P = chunk_pairs<E>;
+  alignas(64) int row[P + kRowRun];  // i of each pair, from the list's offsets (no column kept)
+  alignas(64) double fx[P], fy[P], fz[P];
+  alignas(64) double tix[P], tiy[P], tiz[P];
+  alignas(64) double tjx[P], tjy[P], tjz[P];
+  alignas(64) std::array<std::array<double, P>, E> e;
+  alignas(64) std::array<std::array<double, P>, J> ej;
 };
+
+// The partner's energy part c of a pair (slot q), stored whole by the vector loop so that the scalar sweep
+// only adds.
+template <int E>
+inline double partner_energy(const ChunkBuffer<E> &c, int col, int q) {
+  return c.ej[static_cast<std::size_t>(col)][static_cast<std::size_t>(q)];
+}
 
 // Phase 1 for pairs [k0, k1): eqs 2-5 (cohesive_pair_force) for each pair, its force and both torques
 // into the chunk buffer. The evaluator is branch-free, so this loop vectorises. Compiled three times
 // (x86-64, AVX2, AVX-512); the loader picks the best the machine runs, so the default build still runs
 // anywhere.
-DEBRIS_HOST_ONLY_CLONES void pair_chunk(const PairInputs &a, int k0, int k1, ChunkBuffer &o) {
+template <int E>
+DEBRIS_HOST_ONLY_CLONES void pair_chunk(const PairInputs &a, int k0, int k1, ChunkBuffer<E> &o) {
   const int *__restrict row = o.row;
   const int *__restrict col = a.col;
   const double *__restrict x = a.x, *__restrict y = a.y, *__restrict z = a.z, *__restrict r = a.r;
@@ -90,27 +109,57 @@ DEBRIS_HOST_ONLY_CLONES void pair_chunk(const PairInputs &a, int k0, int k1, Chu
     tjx[q] = out.torque_j.x;
     tjy[q] = out.torque_j.y;
     tjz[q] = out.torque_j.z;
+    if constexpr (E > 0) {
+      o.e[kDampNx][q] = out.damping_n.x;
+      o.e[kDampNy][q] = out.damping_n.y;
+      o.e[kDampNz][q] = out.damping_n.z;
+      o.e[kDampTx][q] = out.damping_t.x;
+      o.e[kDampTy][q] = out.damping_t.y;
+      o.e[kDampTz][q] = out.damping_t.z;
+      o.e[kDampTorqueX][q] = out.damping_torque.x;
+      o.e[kDampTorqueY][q] = out.damping_torque.y;
+      o.e[kDampTorqueZ][q] = out.damping_torque.z;
+      o.e[kPairDissNormal][q] = out.dissipated_normal;
+      o.e[kPairDissTangential][q] = out.dissipated_tangential;
+      o.e[kPairDissSliding][q] = out.dissipated_sliding;
+      o.e[kPairTangentialWork][q] = out.tangential_work;
+      o.ej[kDampNx][q] = -out.damping_n.x;
+      o.ej[kDampNy][q] = -out.damping_n.y;
+      o.ej[kDampNz][q] = -out.damping_n.z;
+      o.ej[kDampTx][q] = -out.damping_t.x;
+      o.ej[kDampTy][q] = -out.damping_t.y;
+      o.ej[kDampTz][q] = -out.damping_t.z;
+      o.ej[kDampTorqueX][q] = out.damping_torque_j.x;
+      o.ej[kDampTorqueY][q] = out.damping_torque_j.y;
+      o.ej[kDampTorqueZ][q] = out.damping_torque_j.z;
+      o.ej[kPairDissNormal][q] = out.dissipated_normal;
+      o.ej[kPairDissTangential][q] = out.dissipated_tangential;
+      o.ej[kPairDissSliding][q] = out.dissipated_sliding;
+      o.ej[kPairTangentialWork][q] = out.tangential_work;
+    }
   }
 }
 
 // A row's own shares (force and torque on i), summed in increasing k.
+template <int E>
 struct RowSum {
   double fx = 0, fy = 0, fz = 0, tx = 0, ty = 0, tz = 0;
+  std::array<double, E> e{};
 };
 
 // Rows [row_begin, row_end), their pairs in chunks of kChunkPairs (pair_chunk is the vector loop): each
 // row's own shares are summed in increasing k, carried across chunks, and handed to row_done(i, sum) when the
 // row ends; each pair's partner share is handed to partner(k, q) while it is in the chunk buffer c (slot q).
 // Both paths of the pass walk their pairs with it and differ only in what they do with the two shares.
-template <class RowDone, class Partner>
-inline void sweep_rows(const PairInputs &in, int row_begin, int row_end, ChunkBuffer &c, RowDone &&row_done,
+template <int E, class RowDone, class Partner>
+inline void sweep_rows(const PairInputs &in, int row_begin, int row_end, ChunkBuffer<E> &c, RowDone &&row_done,
                        Partner &&partner) {
   const int *__restrict offset = in.offset;
   const int k_end = offset[row_end];
   int cur = -1, next_row = row_begin;
-  RowSum sum;
-  for (int k0 = offset[row_begin]; k0 < k_end; k0 += kChunkPairs) {
-    const int k1 = std::min(k_end, k0 + kChunkPairs);
+  RowSum<E> sum;
+  for (int k0 = offset[row_begin]; k0 < k_end; k0 += chunk_pairs<E>) {
+    const int k1 = std::min(k_end, k0 + chunk_pairs<E>);
     // The chunk's row indices (a row may span chunks): 4 bytes per pair in L1 instead of a column in memory.
     // Each row writes kRowRun slots at once (a later row overwrites the excess; the buffer has room past its
     // end), so rows of up to kRowRun pairs, nearly all of them, cost one store and no data-dependent loop.
@@ -123,13 +172,13 @@ inline void sweep_rows(const PairInputs &in, int row_begin, int row_end, ChunkBu
       k = stop;
     }
     next_row = i - 1;
-    pair_chunk(in, k0, k1, c);
+    pair_chunk<E>(in, k0, k1, c);
     for (int k = k0; k < k1; ++k) {
       const int q = k - k0, i = c.row[q];
       if (i != cur) {
         if (cur >= 0) row_done(cur, sum);
         cur = i;
-        sum = RowSum{};
+        sum = RowSum<E>{};
       }
       sum.fx += c.fx[q];
       sum.fy += c.fy[q];
@@ -137,6 +186,7 @@ inline void sweep_rows(const PairInputs &in, int row_begin, int row_end, ChunkBu
       sum.tx += c.tix[q];
       sum.ty += c.tiy[q];
       sum.tz += c.tiz[q];
+      for (int m = 0; m < E; ++m) sum.e[static_cast<std::size_t>(m)] += c.e[static_cast<std::size_t>(m)][static_cast<std::size_t>(q)];
       partner(k, q);
     }
   }
@@ -245,8 +295,8 @@ void HalfPassScratch::partition(const NeighborList &list, int count) {
   }
   for (std::vector<int> *v : {&in_offset, &in_entry, &block_row}) std::vector<int>().swap(*v);
   std::vector<double>().swap(filed);
-  resize_for_overwrite(tail_share, static_cast<std::size_t>(kShareStride) * static_cast<std::size_t>(run_pair.back()));
-  resize_for_overwrite(tail_sum, static_cast<std::size_t>(kShareStride) * static_cast<std::size_t>(run_sum.back()));
+  resize_for_overwrite(tail_share, static_cast<std::size_t>(stride()) * static_cast<std::size_t>(run_pair.back()));
+  resize_for_overwrite(tail_sum, static_cast<std::size_t>(stride()) * static_cast<std::size_t>(run_sum.back()));
 }
 
 void HalfPassScratch::index_filed(const NeighborList &list) {
@@ -265,8 +315,10 @@ void HalfPassScratch::index_filed(const NeighborList &list) {
   resize_for_overwrite(in_entry, static_cast<std::size_t>(m));
   std::vector<int> fill(in_offset.begin(), in_offset.end() - 1);
   for (int k = 0; k < m; ++k) in_entry[static_cast<std::size_t>(fill[static_cast<std::size_t>(col[k])]++)] = k;
-  resize_for_overwrite(filed, static_cast<std::size_t>(kShareStride) * static_cast<std::size_t>(m));
+  resize_for_overwrite(filed, static_cast<std::size_t>(stride()) * static_cast<std::size_t>(m));
 }
+
+int HalfPassScratch::stride() const { return kShareStride + (energy ? kPairEnergyColumns : 0); }
 
 std::size_t HalfPassScratch::bytes() const {
   std::size_t ints = part_row.capacity() + part_run.capacity() + thread_unit.capacity();
@@ -280,8 +332,10 @@ namespace {
 
 // Every partner share filed at its pair's index by the row's thread (blocks of whole rows), then gathered by
 // each particle in increasing k: the same sums as the parts make, for lists whose tails would hold most pairs.
-void filed_pass(const PairInputs &in, const NeighborList &list, Particles &p, HalfPassScratch &s) {
-  constexpr std::ptrdiff_t kStride = HalfPassScratch::kShareStride;
+template <int E>
+void filed_pass(const PairInputs &in, const NeighborList &list, Particles &p, HalfPassScratch &s,
+                double *energy) {
+  constexpr std::ptrdiff_t kStride = HalfPassScratch::kShareStride + E;
   const int n = list.rows();
   const int blocks = static_cast<int>(s.block_row.size()) - 1;
   const int *__restrict block_row = s.block_row.data();
@@ -291,29 +345,35 @@ void filed_pass(const PairInputs &in, const NeighborList &list, Particles &p, Ha
   double *__restrict fx = p.fx.data(), *__restrict fy = p.fy.data(), *__restrict fz = p.fz.data();
   double *__restrict tx = p.tx.data(), *__restrict ty = p.ty.data(), *__restrict tz = p.tz.data();
   DEBRIS_HOST_PARALLEL {
-    ChunkBuffer c;  // per thread, on its stack
+    ChunkBuffer<E> c;  // per thread, on its stack
     DEBRIS_HOST_FOR
     for (int b = 0; b < blocks; ++b) {
-      for (int i = block_row[b]; i < block_row[b + 1]; ++i) fx[i] = fy[i] = fz[i] = tx[i] = ty[i] = tz[i] = 0.0;
-      sweep_rows(
+      for (int i = block_row[b]; i < block_row[b + 1]; ++i) {
+        fx[i] = fy[i] = fz[i] = tx[i] = ty[i] = tz[i] = 0.0;
+        for (int m = 0; m < E; ++m) energy[kE * i + m] = 0.0;
+      }
+      sweep_rows<E>(
           in, block_row[b], block_row[b + 1], c,
-          [&](int i, const RowSum &r) {  // R, from zero
+          [&](int i, const RowSum<E> &r) {  // R, from zero
             fx[i] += r.fx;
             fy[i] += r.fy;
             fz[i] += r.fz;
             tx[i] += r.tx;
             ty[i] += r.ty;
             tz[i] += r.tz;
+            for (int m = 0; m < E; ++m) energy[kE * i + m] += r.e[static_cast<std::size_t>(m)];
           },
           [&](int k, int q) {
             double *share_k = filed + kStride * k;
             share_k[0] = c.fx[q], share_k[1] = c.fy[q], share_k[2] = c.fz[q];
             share_k[3] = c.tjx[q], share_k[4] = c.tjy[q], share_k[5] = c.tjz[q];
+            for (int m = 0; m < E; ++m) share_k[6 + m] = partner_energy<E>(c, m, q);
           });
     }
     DEBRIS_HOST_FOR
     for (int i = 0; i < n; ++i) {  // R + P, P from zero in increasing k
       double sfx = 0, sfy = 0, sfz = 0, stx = 0, sty = 0, stz = 0;
+      std::array<double, E> se{};
       for (int e = in_offset[i]; e < in_offset[i + 1]; ++e) {
         const double *share_e = filed + kStride * in_entry[e];
         sfx -= share_e[0];
@@ -322,6 +382,7 @@ void filed_pass(const PairInputs &in, const NeighborList &list, Particles &p, Ha
         stx += share_e[3];
         sty += share_e[4];
         stz += share_e[5];
+        for (int m = 0; m < E; ++m) se[static_cast<std::size_t>(m)] += share_e[6 + m];
       }
       fx[i] = fx[i] + sfx;
       fy[i] = fy[i] + sfy;
@@ -329,7 +390,142 @@ void filed_pass(const PairInputs &in, const NeighborList &list, Particles &p, Ha
       tx[i] = tx[i] + stx;
       ty[i] = ty[i] + sty;
       tz[i] = tz[i] + stz;
+      for (int m = 0; m < E; ++m) energy[kE * i + m] = energy[kE * i + m] + se[static_cast<std::size_t>(m)];
     }
+  }
+}
+
+}  // namespace
+
+namespace {
+
+template <int E>
+void half_pass(const PairInputs &in, Particles &p, const NeighborList &list, HalfPassScratch &s,
+               double *energy) {
+  constexpr std::ptrdiff_t kStride = HalfPassScratch::kShareStride + E;
+  const int parts = s.parts;
+  const int *__restrict offset = list.offset().data();
+  const int *__restrict col = list.index().data();
+  const int *__restrict part_row = s.part_row.data();
+  const int *__restrict part_run = s.part_run.data();
+  const int *__restrict run_begin = s.run_begin.data();
+  const int *__restrict run_end = s.run_end.data();
+  const int *__restrict run_pair = s.run_pair.data();
+  const int *__restrict run_sum = s.run_sum.data();
+  double *__restrict tail_share = s.tail_share.data();
+  double *__restrict tail_sum = s.tail_sum.data();
+  double *__restrict fx = p.fx.data(), *__restrict fy = p.fy.data(), *__restrict fz = p.fz.data();
+  double *__restrict tx = p.tx.data(), *__restrict ty = p.ty.data(), *__restrict tz = p.tz.data();
+
+  // Each particle's force (and torque) is R + P: R its row's own shares summed in increasing k, P the
+  // shares of the pairs where it is the partner, summed from zero in increasing k (all of them come from
+  // rows before its own: a half list keeps a pair in row min(i, j)). One thread makes these sums in a single
+  // sweep: the rows in order, each partner share added on the spot to f[j], which holds P_j until row j adds
+  // R_j. More threads make the same sums: each owns a part (contiguous rows) and sweeps it the same way, but
+  // the part's tail rows (those with a partner in a later part) are swept first, by all threads, their
+  // shares kept; a part then starts its P sums from the kept shares it receives from earlier parts and adds
+  // its own tail rows' shares where the sweep reaches them, in increasing k as one thread would. So any
+  // thread count gives the same bits, and only the tails' shares are kept (a slab one cutoff thick per part,
+  // against 6 doubles per pair everywhere when every share is filed: filed_pass).
+  auto tail_unit = [&](int u, ChunkBuffer<E> &c) {  // tail rows [unit_begin, unit_end) of one run, kept
+    const int r = s.unit_run[static_cast<std::size_t>(u)];
+    const int row0 = run_begin[r], k0 = offset[row0];
+    sweep_rows<E>(
+        in, s.unit_begin[static_cast<std::size_t>(u)], s.unit_end[static_cast<std::size_t>(u)], c,
+        [&](int i, const RowSum<E> &q) {
+          double *sum_i = tail_sum + kStride * (run_sum[r] + i - row0);
+          sum_i[0] = q.fx, sum_i[1] = q.fy, sum_i[2] = q.fz, sum_i[3] = q.tx, sum_i[4] = q.ty, sum_i[5] = q.tz;
+          for (int m = 0; m < E; ++m) sum_i[6 + m] = q.e[static_cast<std::size_t>(m)];
+        },
+        [&](int k, int q) {
+          double *share_k = tail_share + kStride * (run_pair[r] + k - k0);
+          share_k[0] = c.fx[q], share_k[1] = c.fy[q], share_k[2] = c.fz[q];
+          share_k[3] = c.tjx[q], share_k[4] = c.tjy[q], share_k[5] = c.tjz[q];
+          for (int m = 0; m < E; ++m) share_k[6 + m] = partner_energy<E>(c, m, q);
+        });
+  };
+  auto add_partner_share = [&](int j, const double *share) {
+    fx[j] -= share[0], fy[j] -= share[1], fz[j] -= share[2];
+    tx[j] += share[3], ty[j] += share[4], tz[j] += share[5];
+    for (int m = 0; m < E; ++m) energy[kE * j + m] += share[6 + m];
+  };
+  auto sweep = [&](int row0, int row1, ChunkBuffer<E> &c) {  // rows swept on the spot: R + P, P_j in increasing k
+    sweep_rows<E>(
+        in, row0, row1, c,
+        [&](int i, const RowSum<E> &q) {
+          fx[i] = q.fx + fx[i];
+          fy[i] = q.fy + fy[i];
+          fz[i] = q.fz + fz[i];
+          tx[i] = q.tx + tx[i];
+          ty[i] = q.ty + ty[i];
+          tz[i] = q.tz + tz[i];
+          for (int m = 0; m < E; ++m) energy[kE * i + m] = q.e[static_cast<std::size_t>(m)] + energy[kE * i + m];
+        },
+        [&](int k, int q) {
+          const int j = col[k];
+          fx[j] -= c.fx[q];
+          fy[j] -= c.fy[q];
+          fz[j] -= c.fz[q];
+          tx[j] += c.tjx[q];
+          ty[j] += c.tjy[q];
+          tz[j] += c.tjz[q];
+          for (int m = 0; m < E; ++m) energy[kE * j + m] += partner_energy<E>(c, m, q);
+        });
+  };
+  auto part_sweep = [&](int u, ChunkBuffer<E> &c) {  // part u's forces, once every tail is swept
+    const int begin = part_row[u], end = part_row[u + 1];
+    std::fill(fx + begin, fx + end, 0.0), std::fill(fy + begin, fy + end, 0.0), std::fill(fz + begin, fz + end, 0.0);
+    std::fill(tx + begin, tx + end, 0.0), std::fill(ty + begin, ty + end, 0.0), std::fill(tz + begin, tz + end, 0.0);
+    if constexpr (E > 0)
+      std::fill(energy + static_cast<std::ptrdiff_t>(kPairEnergyColumns) * begin,
+                energy + static_cast<std::ptrdiff_t>(kPairEnergyColumns) * end, 0.0);
+    // The shares earlier parts' tails hold for this part's particles come first in k.
+    for (int r = 0; r < part_run[u]; ++r) {
+      const int k0 = offset[run_begin[r]], k1 = offset[run_end[r]];
+      for (int k = k0; k < k1; ++k)
+        if (col[k] >= begin && col[k] < end) add_partner_share(col[k], tail_share + kStride * (run_pair[r] + k - k0));
+    }
+    // The rows in order: swept on the spot between this part's tail runs, the runs from their kept shares.
+    int row = begin;
+    for (int r = part_run[u]; r < part_run[u + 1]; ++r) {
+      sweep(row, run_begin[r], c);
+      const int k0 = offset[run_begin[r]];
+      for (int i = run_begin[r]; i < run_end[r]; ++i) {
+        if (offset[i + 1] == offset[i]) continue;  // no row sum: f[i] is P_i, as in the sweep
+        const double *sum_i = tail_sum + kStride * (run_sum[r] + i - run_begin[r]);
+        fx[i] = sum_i[0] + fx[i];
+        fy[i] = sum_i[1] + fy[i];
+        fz[i] = sum_i[2] + fz[i];
+        tx[i] = sum_i[3] + tx[i];
+        ty[i] = sum_i[4] + ty[i];
+        tz[i] = sum_i[5] + tz[i];
+        for (int m = 0; m < E; ++m) energy[kE * i + m] = sum_i[6 + m] + energy[kE * i + m];
+        for (int k = offset[i]; k < offset[i + 1]; ++k)
+          if (col[k] < end) add_partner_share(col[k], tail_share + kStride * (run_pair[r] + k - k0));
+      }
+      row = run_end[r];
+    }
+    sweep(row, end, c);
+  };
+
+  if (parts == 1) {  // no tail, no parallel region
+    ChunkBuffer<E> c;
+    part_sweep(0, c);
+    return;
+  }
+  if (s.file_all) return filed_pass<E>(in, list, p, s, energy);
+  // Host threads only: this is the host pass (offload builds use the full-list pass). The tails first, shared
+  // among the threads; the loop barrier; then one part per thread.
+  const int *__restrict thread_unit = s.thread_unit.data();
+  DEBRIS_HOST_PARALLEL {
+    ChunkBuffer<E> c;  // per thread, on its stack
+    // Static loops: with one thread per part, thread t sweeps its share of the tails, then part t.
+    DEBRIS_HOST_FOR
+    for (int t = 0; t < parts; ++t) {
+      for (int u = thread_unit[t]; u < thread_unit[t + 1]; ++u) tail_unit(u, c);
+    }
+    DEBRIS_HOST_FOR
+    for (int u = 0; u < parts; ++u) part_sweep(u, c);
   }
 }
 
@@ -337,8 +533,9 @@ void filed_pass(const PairInputs &in, const NeighborList &list, Particles &p, Ha
 
 void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOptions &opt, const BoxView &box,
                                 Particles &p, const NeighborList &list, ContactHistory &history, double dt,
-                                int update_history, HalfPassScratch &s) {
+                                int update_history, HalfPassScratch &s, const PairEnergyOut *energy) {
   if (list.kind() != NeighborKind::half) throw std::logic_error("cohesive_contact_pass_half needs a half list");
+  if (energy && !s.energy) throw std::logic_error("cohesive_contact_pass_half: scratch not indexed for energy");
   if (s.entries != list.entries())
     throw std::logic_error("cohesive_contact_pass_half: scratch not indexed for this list");
   // The thread count may have changed since the list was built (the thread tuner): part the rows anew.
@@ -364,123 +561,8 @@ void cohesive_contact_pass_half(const CohesivePairTable &table, const CohesiveOp
                       dt,
                       opt,
                       update_history};
-
-  constexpr std::ptrdiff_t kStride = HalfPassScratch::kShareStride;
-  const int parts = s.parts;
-  const int *__restrict offset = list.offset().data();
-  const int *__restrict col = list.index().data();
-  const int *__restrict part_row = s.part_row.data();
-  const int *__restrict part_run = s.part_run.data();
-  const int *__restrict run_begin = s.run_begin.data();
-  const int *__restrict run_end = s.run_end.data();
-  const int *__restrict run_pair = s.run_pair.data();
-  const int *__restrict run_sum = s.run_sum.data();
-  double *__restrict tail_share = s.tail_share.data();
-  double *__restrict tail_sum = s.tail_sum.data();
-  double *__restrict fx = p.fx.data(), *__restrict fy = p.fy.data(), *__restrict fz = p.fz.data();
-  double *__restrict tx = p.tx.data(), *__restrict ty = p.ty.data(), *__restrict tz = p.tz.data();
-
-  // Each particle's force (and torque) is R + P: R its row's own shares summed in increasing k, P the
-  // shares of the pairs where it is the partner, summed from zero in increasing k (all of them come from
-  // rows before its own: a half list keeps a pair in row min(i, j)). One thread makes these sums in a single
-  // sweep: the rows in order, each partner share added on the spot to f[j], which holds P_j until row j adds
-  // R_j. More threads make the same sums: each owns a part (contiguous rows) and sweeps it the same way, but
-  // the part's tail rows (those with a partner in a later part) are swept first, by all threads, their
-  // shares kept; a part then starts its P sums from the kept shares it receives from earlier parts and adds
-  // its own tail rows' shares where the sweep reaches them, in increasing k as one thread would. So any
-  // thread count gives the same bits, and only the tails' shares are kept (a slab one cutoff thick per part,
-  // against 6 doubles per pair everywhere when every share is filed: filed_pass).
-  auto tail_unit = [&](int u, ChunkBuffer &c) {  // tail rows [unit_begin, unit_end) of one run, kept
-    const int r = s.unit_run[static_cast<std::size_t>(u)];
-    const int row0 = run_begin[r], k0 = offset[row0];
-    sweep_rows(
-        in, s.unit_begin[static_cast<std::size_t>(u)], s.unit_end[static_cast<std::size_t>(u)], c,
-        [&](int i, const RowSum &q) {
-          double *sum_i = tail_sum + kStride * (run_sum[r] + i - row0);
-          sum_i[0] = q.fx, sum_i[1] = q.fy, sum_i[2] = q.fz, sum_i[3] = q.tx, sum_i[4] = q.ty, sum_i[5] = q.tz;
-        },
-        [&](int k, int q) {
-          double *share_k = tail_share + kStride * (run_pair[r] + k - k0);
-          share_k[0] = c.fx[q], share_k[1] = c.fy[q], share_k[2] = c.fz[q];
-          share_k[3] = c.tjx[q], share_k[4] = c.tjy[q], share_k[5] = c.tjz[q];
-        });
-  };
-  auto add_partner_share = [&](int j, const double *share) {
-    fx[j] -= share[0], fy[j] -= share[1], fz[j] -= share[2];
-    tx[j] += share[3], ty[j] += share[4], tz[j] += share[5];
-  };
-  auto sweep = [&](int row0, int row1, ChunkBuffer &c) {  // rows swept on the spot: R + P, P_j in increasing k
-    sweep_rows(
-        in, row0, row1, c,
-        [&](int i, const RowSum &q) {
-          fx[i] = q.fx + fx[i];
-          fy[i] = q.fy + fy[i];
-          fz[i] = q.fz + fz[i];
-          tx[i] = q.tx + tx[i];
-          ty[i] = q.ty + ty[i];
-          tz[i] = q.tz + tz[i];
-        },
-        [&](int k, int q) {
-          const int j = col[k];
-          fx[j] -= c.fx[q];
-          fy[j] -= c.fy[q];
-          fz[j] -= c.fz[q];
-          tx[j] += c.tjx[q];
-          ty[j] += c.tjy[q];
-          tz[j] += c.tjz[q];
-        });
-  };
-  auto part_sweep = [&](int u, ChunkBuffer &c) {  // part u's forces, once every tail is swept
-    const int begin = part_row[u], end = part_row[u + 1];
-    std::fill(fx + begin, fx + end, 0.0), std::fill(fy + begin, fy + end, 0.0), std::fill(fz + begin, fz + end, 0.0);
-    std::fill(tx + begin, tx + end, 0.0), std::fill(ty + begin, ty + end, 0.0), std::fill(tz + begin, tz + end, 0.0);
-    // The shares earlier parts' tails hold for this part's particles come first in k.
-    for (int r = 0; r < part_run[u]; ++r) {
-      const int k0 = offset[run_begin[r]], k1 = offset[run_end[r]];
-      for (int k = k0; k < k1; ++k)
-        if (col[k] >= begin && col[k] < end) add_partner_share(col[k], tail_share + kStride * (run_pair[r] + k - k0));
-    }
-    // The rows in order: swept on the spot between this part's tail runs, the runs from their kept shares.
-    int row = begin;
-    for (int r = part_run[u]; r < part_run[u + 1]; ++r) {
-      sweep(row, run_begin[r], c);
-      const int k0 = offset[run_begin[r]];
-      for (int i = run_begin[r]; i < run_end[r]; ++i) {
-        if (offset[i + 1] == offset[i]) continue;  // no row sum: f[i] is P_i, as in the sweep
-        const double *sum_i = tail_sum + kStride * (run_sum[r] + i - run_begin[r]);
-        fx[i] = sum_i[0] + fx[i];
-        fy[i] = sum_i[1] + fy[i];
-        fz[i] = sum_i[2] + fz[i];
-        tx[i] = sum_i[3] + tx[i];
-        ty[i] = sum_i[4] + ty[i];
-        tz[i] = sum_i[5] + tz[i];
-        for (int k = offset[i]; k < offset[i + 1]; ++k)
-          if (col[k] < end) add_partner_share(col[k], tail_share + kStride * (run_pair[r] + k - k0));
-      }
-      row = run_end[r];
-    }
-    sweep(row, end, c);
-  };
-
-  if (parts == 1) {  // no tail, no parallel region
-    ChunkBuffer c;
-    part_sweep(0, c);
-    return;
-  }
-  if (s.file_all) return filed_pass(in, list, p, s);
-  // Host threads only: this is the host pass (offload builds use the full-list pass). The tails first, shared
-  // among the threads; the loop barrier; then one part per thread.
-  const int *__restrict thread_unit = s.thread_unit.data();
-  DEBRIS_HOST_PARALLEL {
-    ChunkBuffer c;  // per thread, on its stack
-    // Static loops: with one thread per part, thread t sweeps its share of the tails, then part t.
-    DEBRIS_HOST_FOR
-    for (int t = 0; t < parts; ++t) {
-      for (int u = thread_unit[t]; u < thread_unit[t + 1]; ++u) tail_unit(u, c);
-    }
-    DEBRIS_HOST_FOR
-    for (int u = 0; u < parts; ++u) part_sweep(u, c);
-  }
+  if (energy) return half_pass<kPairEnergyColumns>(in, p, list, s, energy->rows);
+  half_pass<0>(in, p, list, s, nullptr);
 }
 
 }  // namespace debris

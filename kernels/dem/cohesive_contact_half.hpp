@@ -34,6 +34,10 @@ enum class HalfPassPath { automatic, parts, filed };
 struct HalfPassScratch {
   HalfPassPath path = HalfPassPath::automatic;
   static constexpr int kShareStride = 6;  // force on i (the partner gets its negative), torque on j
+  // With the energy accounting on, each share also carries the pair's energy parts (PairEnergyColumns):
+  // stride() doubles per share instead of kShareStride. Set before index().
+  bool energy = false;
+  int stride() const;
   static constexpr int kUnitPairs = 512;  // the tails' sweep is shared among threads in units of this many pairs
   int entries = -1;                       // the pairs of the list it was indexed for
   int parts = 0;                          // the thread count the parts are for
@@ -43,8 +47,8 @@ struct HalfPassScratch {
   std::vector<int> run_pair, run_sum;     // where run r's pairs start in tail_share, its rows in tail_sum
   std::vector<int> unit_run, unit_begin, unit_end;  // the tails' sweep: rows of run unit_run[u]
   std::vector<int> thread_unit;                     // thread t's units: thread_unit[t] .. thread_unit[t+1]
-  std::vector<double> tail_share;                   // kShareStride doubles per tail pair: the partner's share
-  std::vector<double> tail_sum;                     // kShareStride doubles per tail row: the row's own sum
+  std::vector<double> tail_share;                   // stride() doubles per tail pair: the partner's share
+  std::vector<double> tail_sum;                     // stride() doubles per tail row: the row's own sum
   // Where the tails would hold more than kMostTailPairs of the pairs, every share is filed instead:
   // Measured: parts win at 6% (256k) and tie at 12% (32k); at 22% (the junction's sample) they tie and at
   // 25.5% (4k) parts step in 0.301 ms against 0.323 ms filed (best of five interleaved rounds), keeping 256 B
@@ -54,7 +58,7 @@ struct HalfPassScratch {
   bool file_all = false;
   std::vector<int> block_row;            // its blocks: rows block_row[b] .. block_row[b+1]
   std::vector<int> in_offset, in_entry;  // pairs where j is the partner: in_entry[in_offset[j] ..], increasing k
-  std::vector<double> filed;             // kShareStride doubles per pair
+  std::vector<double> filed;             // stride() doubles per pair
 
   /// Rebuilds the indices and parts (after every list rebuild), for exec::threads() threads.
   void index(const NeighborList& list);
@@ -67,9 +71,10 @@ struct HalfPassScratch {
 
 /// Sets f and t to the pair forces and torques: each part's rows are zeroed by the thread that sums them, so
 /// the step needs no zero_forces sweep before it (one parallel region and one pass over f, t fewer; the same
-/// bits: 0 + the row's sum). `list` must be a half list, `scratch` indexed for it.
+/// bits: 0 + the row's sum). `list` must be a half list, `scratch` indexed for it. `energy` (nullptr: none;
+/// needs scratch.energy) is set the same way to the per-particle sums of the pairs' energy parts.
 void cohesive_contact_pass_half(const CohesivePairTable& table, const CohesiveOptions& opt, const BoxView& box,
                                 Particles& p, const NeighborList& list, ContactHistory& history, double dt,
-                                int update_history, HalfPassScratch& scratch);
+                                int update_history, HalfPassScratch& scratch, const PairEnergyOut* energy = nullptr);
 
 }  // namespace debris

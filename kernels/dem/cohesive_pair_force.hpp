@@ -62,6 +62,32 @@ struct CohesivePairResult {
   Vec3 history;    // dT after this step: advanced, rescaled when it slid, zero out of range
   double delta_n;  // normal separation dN = |x_i - x_j| - r_i - r_j
   int interacting; // 1 if dN <= delta_f (dN <= 0 without adhesion)
+  // What the energy accounting needs (kernels/dem/energy_accounting.hpp); unused results cost nothing, the
+  // evaluator being inlined. The damping parts of eq 2, on i (j receives -damping_n, -damping_t):
+  Vec3 damping_n;         // -c_N v_N n
+  Vec3 damping_t;         // -c_T v_T
+  Vec3 damping_torque;    // the tangential damping's torque on i
+  Vec3 damping_torque_j;  // ... on j
+  // Energies over this step at the velocities the force was evaluated with (joules or the input's units):
+  double dissipated_normal;      // c_N v_N^2 dt: the normal dashpot's power
+  double dissipated_tangential;  // c_T |v_T|^2 dt: the tangential dashpot's power
+  double dissipated_sliding;     // what the tangential spring lost: F'_mT times the slip where eq 4 rescaled
+                                 // it, plus its whole energy k_T |dT|^2 / 2 where the pair let go of it
+  double tangential_work;        // -F_T . v_c dt: work the relative motion did against the tangential force
+};
+
+/// Per-particle sums of the pairs' energy parts (CohesivePairResult), for the energy accounting: the
+/// damping forces and the tangential damping's torque on each particle, and each particle's sum of its pairs'
+/// whole dissipations and tangential work (the accounting gives each end half).
+enum PairEnergyColumn : int {
+  kDampNx, kDampNy, kDampNz,            // normal damping force
+  kDampTx, kDampTy, kDampTz,            // tangential damping force
+  kDampTorqueX, kDampTorqueY, kDampTorqueZ,  // tangential damping's torque
+  kPairDissNormal, kPairDissTangential, kPairDissSliding, kPairTangentialWork,
+  kPairEnergyColumns
+};
+struct PairEnergyOut {
+  double* rows = nullptr;  // particle i's parts at rows[kPairEnergyColumns * i + column]
 };
 
 DEBRIS_DECLARE_TARGET
@@ -131,9 +157,37 @@ DEBRIS_ALWAYS_INLINE CohesivePairResult cohesive_pair_force(const CohesiveCoeffi
   const Vec3 arm = cross(n, f_t);
   // Slid back to the cap when updating; gone when out of range or without tangential force.
   const Vec3 history = (live * (update_history ? slide : 1.0)) * h;
+  // The energy accounting's parts. The damping forces and their power at v (the pair's dissipation this
+  // step: -(F_damp . v_c) dt, with the torques' share through v_c); a slip where eq 4 rescaled the spring
+  // dissipates F'_mT times the length cut from dT, and a spring the pair lets go of (out of range, or
+  // tangential force switched off) its whole energy.
+  // Their own products, not the force's (c_N v_N, c_T v_T): GCC fuses a product into an add only where that
+  // is its one use. The vector loop still contracts the force differently once these are kept, so a run with
+  // the accounting and one without differ in the last bits (each the same on any thread or rank count).
+  const double c_on = on ? pair.c_n : 0.0;
+  const Vec3 damping_n = -c_on * (v_n * n);
+  const Vec3 damping_t = (-live * c.ct_over_cn) * (pair.c_n * v_t);
+  const Vec3 arm_d = cross(n, damping_t);
+  const double h_len = norm(h);
+  const double slip = update_history ? live * (1.0 - slide) * h_len : 0.0;
+  const double kept = slide * spring;  // the spring's force after eq 4: F'_mT where it slid
+  const double released = live > 0.0 ? 0.0 : 0.5 * k_t * h2;
   // Aggregate initialisation, not a default-constructed result filled in: clang's offload build left the
   // implicit constructor undefined in the host clones of the half-list pass.
-  return CohesivePairResult{f_normal * n + f_t, -a_i * arm, -a_j * arm, history, dn, on};
+  return CohesivePairResult{f_normal * n + f_t,
+                            -a_i * arm,
+                            -a_j * arm,
+                            history,
+                            dn,
+                            on,
+                            damping_n,
+                            damping_t,
+                            -a_i * arm_d,
+                            -a_j * arm_d,
+                            c_on * (v_n * v_n) * dt,
+                            -dot(damping_t, v_t) * dt,
+                            kept * slip + released,
+                            -dot(f_t, v_c) * dt};
 }
 
 /// Potential of eq 3, zero for separated pairs: U(dN) = -integral of F_N from dN up to delta_f.

@@ -59,13 +59,19 @@ void zero_forces(Particles& p) {
   }
 }
 
+Vec3 kicked_velocity(const Group& g, double dt) {
+  const Vec3 dv = (dt / g.mass) * (g.reaction + g.external_force);
+  Vec3 v = g.velocity;
+  if (!g.prescribed[0]) v.x += dv.x;
+  if (!g.prescribed[1]) v.y += dv.y;
+  if (!g.prescribed[2]) v.z += dv.z;
+  return v;
+}
+
 void kick_rigid_groups(Groups& groups, double dt) {
   for (Group& g : groups.list) {
     if (g.motion != GroupMotion::force || !(g.mass > 0.0)) continue;
-    const Vec3 dv = (dt / g.mass) * (g.reaction + g.external_force);
-    if (!g.prescribed[0]) g.velocity.x += dv.x;
-    if (!g.prescribed[1]) g.velocity.y += dv.y;
-    if (!g.prescribed[2]) g.velocity.z += dv.z;
+    g.velocity = kicked_velocity(g, dt);
   }
 }
 

@@ -14,6 +14,8 @@ void integrate_semi_implicit_euler(Particles& p, Groups::View groups, double dt)
 /// The rigid groups' Newton update, eq 1 for a body: v += (reaction + external) / M dt on the axes a force
 /// group does not prescribe (semi-implicit Euler, before the drift). Host side: a few numbers per group.
 void kick_rigid_groups(Groups& groups, double dt);
+/// A force group's velocity after that kick (the energy accounting predicts it with the same arithmetic).
+Vec3 kicked_velocity(const Group& g, double dt);
 
 /// Zeroes forces and torques before the force passes.
 void zero_forces(Particles& p);

@@ -147,7 +147,26 @@ PYBIND11_MODULE(_debris, m) {
              return state_column(r, name, writable, owner);
            },
            "name"_a, "writable"_a, "owner"_a)
-      .def("end_edit", &end_state_edit, "written"_a, "positions_changed"_a)
+      .def("begin_edit", &begin_state_edit)
+      .def("end_edit", &end_state_edit, "written"_a, "positions_changed"_a, "content_before"_a)
+      .def("dem_energy",
+           [](PyRun& r) -> py::object {
+             require(r, PyModel::dem);
+             const DemSimulation& sim = dem_simulation(r.model());
+             if (!sim.settings().energy_accounting) return py::none();
+             const EnergyBalance b = sim.energy_balance(sim.diagnostics());
+             py::dict drives;
+             for (std::size_t k = 0; k < sim.groups().size(); ++k)
+               drives[py::str(sim.groups().list[k].name)] = b.totals.drive_work[k];
+             return py::dict("work_in"_a = b.work_in(), "work_drives"_a = drives, "work_stages"_a = b.stage_work,
+                             "kinetic_energy"_a = b.kinetic, "kinetic_energy_start"_a = b.kinetic0,
+                             "elastic_energy"_a = b.elastic, "elastic_energy_start"_a = b.elastic0,
+                             "dissipated_normal"_a = b.totals.dissipated_normal,
+                             "dissipated_tangential"_a = b.totals.dissipated_tangential,
+                             "dissipated_sliding"_a = b.totals.dissipated_sliding,
+                             "dissipated_global"_a = b.totals.dissipated_global,
+                             "tangential_work"_a = b.totals.tangential_work, "residual"_a = b.residual());
+           })
       // DEM.
       .def("dem_groups",
            [](PyRun& r) {

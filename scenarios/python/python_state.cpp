@@ -161,7 +161,11 @@ void check_state_edit(PyRun& run, const std::vector<std::string>& written) {
     check_peridem_edit(std::as_const(peridem_simulation(run.model())), written);
 }
 
-void end_state_edit(PyRun& run, const std::vector<std::string>& written, bool positions_changed) {
+double begin_state_edit(PyRun& run) {
+  return run.kind() == PyModel::dem ? std::as_const(dem_simulation(run.model())).energy_content() : 0.0;
+}
+
+void end_state_edit(PyRun& run, const std::vector<std::string>& written, bool positions_changed, double content_before) {
   check_state_edit(run, written);
   if (run.kind() == PyModel::dem) {
     DemSimulation& sim = dem_simulation(run.model());
@@ -172,6 +176,8 @@ void end_state_edit(PyRun& run, const std::vector<std::string>& written, bool po
       sim.groups().refresh_members(p);
     if (positions_changed) sim.rebuild_neighbors();
     sim.recompute_forces();
+    // What the edit did to the energy content is work done on the system, as a stage's changes are.
+    if (sim.settings().energy_accounting) sim.add_stage_work(std::as_const(sim).energy_content() - content_before);
     return;
   }
   PeridemSimulation& sim = peridem_simulation(run.model());

@@ -33,6 +33,9 @@ void check_state_edit(PyRun& run, const std::vector<std::string>& written);
 /// The end of an edit: the written columns checked (check_state_edit), then the host copy marked changed
 /// (offload builds), the neighbour or contact list rebuilt when positions may have moved
 /// (`positions_changed`), and this step's forces evaluated again.
-void end_state_edit(PyRun& run, const std::vector<std::string>& written, bool positions_changed);
+/// The energy content (DemSimulation::energy_content) before an edit: end_state_edit counts its change as
+/// work done on the system, as a stage's changes are (0 for PeriDEM).
+double begin_state_edit(PyRun& run);
+void end_state_edit(PyRun& run, const std::vector<std::string>& written, bool positions_changed, double content_before);
 
 }  // namespace debris

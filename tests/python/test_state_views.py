@@ -40,6 +40,11 @@ def test_velocity_edited_through_a_view_steps_as_the_same_stage_edit(tmp_path):
     assert np.all(np.asarray(sim.state.vx)[members] == 0.002)
     sim.run()
     assert filecmp.cmp(tmp_path / "stage" / "thermo.csv", tmp_path / "view" / "thermo.csv", shallow=False)
+    # The edit did work on the system, counted as a stage's would be, and the balance still closes.
+    energy = sim.energy()
+    assert energy["work_stages"] > 0
+    assert energy["work_stages"] == staged.energy()["work_stages"]
+    assert abs(energy["residual"]) < 0.01 * energy["work_in"]
 
     # The kick changes the run: without it the thermo differs.
     plain = debris.Dem(_hcp_with_probe(False), output=str(tmp_path / "plain"), quiet=True).run()

@@ -158,6 +158,9 @@ void DemSimulation::write_checkpoint(const std::string& path, const std::string&
       state.write_scalar<double>("skin", skin_);
       state.write_scalar<double>("max_cutoff", max_cutoff_);
       state.write_scalar<std::int32_t>("pair_pass", static_cast<std::int32_t>(pass_));
+      // The energy balance's start and the stages' work (the per-particle sums are particle columns).
+      state.write("energy", std::vector<double>{settings_.energy_accounting ? 1.0 : 0.0, kinetic0_, elastic0_,
+                                                stage_work_});
     }
     {
       h5::Group set = f.create_group("settings");
@@ -297,6 +300,17 @@ DemSimulation DemSimulation::restore(const h5::File& f, std::string* input_echo)
   check(pass == static_cast<int>(PairPass::full) || pass == static_cast<int>(PairPass::half),
         "state/pair_pass is neither the full nor the half pass");
   sim.pass_ = static_cast<PairPass>(pass);
+  // Checkpoints from before the energy accounting: it starts at the restart, from zero.
+  const bool energy_known = state.has("energy");
+  if (energy_known) {
+    const auto e = read_sized<double>(state, "energy", 4);
+    check((e[0] == 0.0 || e[0] == 1.0) && std::isfinite(e[1]) && std::isfinite(e[2]) && std::isfinite(e[3]),
+          "state/energy holds no energy balance (a flag and three finite energies)");
+    sim.settings_.energy_accounting = e[0] != 0.0;
+    sim.kinetic0_ = e[1];
+    sim.elastic0_ = e[2];
+    sim.stage_work_ = e[3];
+  }
 
   const h5::Group box = f.open_group("box");
   const auto lo = read_sized<double>(box, "lo", 3), hi = read_sized<double>(box, "hi", 3);
@@ -310,6 +324,8 @@ DemSimulation DemSimulation::restore(const h5::File& f, std::string* input_echo)
   sim.p_.for_each_column([&](const char* name, auto& col) {
     using T = typename std::decay_t<decltype(col)>::value_type;
     if (std::string(name) == "label" && !parts.has(name)) return;  // written before labels existed: all 0
+    // Written before the energy accounting: its columns start at 0.
+    if (!energy_known && !parts.has(name) && std::string(name) != "id" && std::string(name) != "x") return;
     if constexpr (std::is_same_v<T, int>) {
       const auto v = parts.read<std::int32_t>(name).values;
       col.assign(v.begin(), v.end());
@@ -320,6 +336,9 @@ DemSimulation DemSimulation::restore(const h5::File& f, std::string* input_echo)
   });
   const std::size_t n = sim.p_.id.size();
   if (sim.p_.label.empty()) sim.p_.label.assign(n, 0);
+  sim.p_.for_each_column([&](const char*, auto& col) {
+    if (col.empty()) col.assign(n, 0);
+  });
   check(n > 0, "it holds no particles");
   sim.p_.for_each_column([&](const char* name, auto& col) {
     check(col.size() == n, std::string("particles/") + name + " holds " + std::to_string(col.size()) + " values for " +
@@ -429,6 +448,10 @@ DemSimulation DemSimulation::restore(const h5::File& f, std::string* input_echo)
   }
   sim.host_edited_ = false;
   if (sim.pass_ == PairPass::half) sim.index_half_pass();
+  if (!energy_known && sim.settings_.energy_accounting) {  // the balance counts from the restart
+    sim.kinetic0_ = sim.totals().kinetic_energy;
+    sim.elastic0_ = sim.diagnostics().elastic_energy;
+  }
   return sim;
 }
 

@@ -463,6 +463,7 @@ void read_output(const InputNode& out, DemOutputSettings& o) {
   if (!(o.progress_seconds > 0))
     throw input_error("output.progress_seconds", format_value(o.progress_seconds), "must be > 0");
   o.pictures = out.boolean("pictures", false);
+  o.energy = out.boolean("energy", true);
 }
 
 // Stages, run control, the wear analysis and output. `restored`: the physics keys of `run` were skipped.
@@ -478,6 +479,8 @@ void read_run_control(const InputNode& root, DemRunConfig& cfg, bool restored) {
   read_checks(run, cfg);
   if (root.has("wear")) cfg.wear = read_wear_settings(root.child("wear"));
   if (root.has("output")) read_output(root.child("output"), cfg.output);
+  // A restart keeps the accounting of the run it continues (its sums are in the checkpoint).
+  if (!restored) cfg.settings.energy_accounting = cfg.output.energy;
 }
 
 }  // namespace

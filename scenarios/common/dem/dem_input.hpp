@@ -27,6 +27,7 @@ struct DemOutputSettings {
   long checkpoint_every = 0;    // checkpoint.h5; 0 = at the end only
   double progress_seconds = 10; // progress line at most this often
   bool pictures = false;        // side views of the first and last step and the driven group's force (PNG)
+  bool energy = true;           // the energy accounting: thermo.csv's work and dissipation columns, the balance
 };
 
 /// What a stage of a debris_dem run changes at its start (scenarios/common/run/stages.hpp); absent keys keep

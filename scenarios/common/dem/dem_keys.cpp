@@ -186,6 +186,10 @@ void document_output(KeyReference& r) {
       .means("the progress line (steps/s, time left) comes at most this often");
   r.key("output.pictures").is(KeyKind::boolean).fallback("false")
       .means("true: side_view.png and tangential_force.png at the end, drawn by gnuplot");
+  r.key("output.energy").is(KeyKind::boolean).fallback("true")
+      .means("the energy accounting: work done by each drive and energy dissipated by each mechanism, in "
+             "thermo.csv, the dump and the closing balance; false saves its cost (a restart keeps the setting of "
+             "the run it continues)");
 }
 
 }  // namespace
@@ -233,6 +237,35 @@ const ColumnTable& dem_thermo_table() {
           {"<group>_dx", "m", "x displacement of the group's centre of mass since the start of the run", ""},
           {"<group>_dy", "m", "y displacement of the group's centre of mass", ""},
           {"<group>_dz", "m", "z displacement of the group's centre of mass", ""},
+          {"<group>_work", "J",
+           "work the group's drive did on the system since the start: what set its members' velocities other than "
+           "their own forces (a frozen wall's does none; a wall moved at a velocity or under a load does); 0 for "
+           "a free group",
+           "energy"},
+          {"work_in", "J", "work done on the system since the start: every group's drive plus `work_stages`",
+           "energy"},
+          {"work_stages", "J",
+           "work the stages' changes did at once: velocities they set, the pair law they switched (the energy "
+           "content after the change minus before)",
+           "energy"},
+          {"dissipated_normal", "J", "energy taken by the normal damping of eq 2, c_N v_N^2, since the start",
+           "energy"},
+          {"dissipated_tangential", "J", "energy taken by the tangential damping of eq 2, c_T |v_T|^2, since the start",
+           "energy"},
+          {"dissipated_sliding", "J",
+           "energy taken where the tangential spring slid (eq 4: F'_mT times the slip) or was let go (a pair "
+           "leaving range keeps none of its spring energy), since the start",
+           "energy"},
+          {"dissipated_global", "J", "energy taken by the global damping (`run.global_damping`, stages) since the start",
+           "energy"},
+          {"tangential_work", "J",
+           "work the pairs' relative motion did against their tangential forces (springs and damping), since the "
+           "start: the frictional work of the wear laws",
+           "energy"},
+          {"energy_residual", "J",
+           "work_in - (kinetic_energy - its start) - (elastic_energy - its start) - the four dissipated columns: "
+           "the integrator's error (README: energy balance)",
+           "energy"},
       }};
   return t;
 }

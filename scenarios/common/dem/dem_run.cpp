@@ -26,20 +26,46 @@ namespace debris {
 
 namespace {
 
-std::vector<std::string> dem_thermo_columns(const Groups& groups) {
+std::vector<std::string> dem_thermo_columns(const Groups& groups, bool energy) {
   std::vector<std::string> names;
   for (const Group& g : groups.list) names.push_back(g.name);
-  return dem_thermo_table().header({{"group", names}});
+  return dem_thermo_table().header({{"group", names}}, energy ? std::vector<std::string>{"energy"}
+                                                              : std::vector<std::string>{});
 }
 
 std::vector<double> dem_thermo_row(const DemSimulation& sim, const CohesiveDiagnostics& d) {
   const ParticleTotals t = sim.totals();  // the whole system's, on every rank
   std::vector<double> row{static_cast<double>(sim.step_count()), sim.time(), t.kinetic_energy, d.elastic_energy,
                           d.max_overlap, static_cast<double>(d.interacting_pairs)};
-  for (const Group& g : sim.groups().list)
+  const bool energy = sim.settings().energy_accounting;
+  const EnergyBalance b = energy ? sim.energy_balance(d) : EnergyBalance{};
+  for (std::size_t k = 0; k < sim.groups().size(); ++k) {
+    const Group& g = sim.groups().list[k];
     for (double v : {g.reaction.x, g.reaction.y, g.reaction.z, g.displacement.x, g.displacement.y, g.displacement.z})
       row.push_back(v);
+    if (energy) row.push_back(b.totals.drive_work[k]);
+  }
+  if (energy)
+    for (double v : {b.work_in(), b.stage_work, b.totals.dissipated_normal, b.totals.dissipated_tangential,
+                     b.totals.dissipated_sliding, b.totals.dissipated_global, b.totals.tangential_work, b.residual()})
+      row.push_back(v);
   return row;
+}
+
+// The closing lines: where the work went, W_in = dKE + dPE + sum of D + residual.
+std::string energy_report(const EnergyBalance& b) {
+  std::ostringstream os;
+  os << std::setprecision(4);
+  const double in = b.work_in();
+  os << "energy balance since the start (J): work in " << in << " (drives " << b.drive_work() << ", stages "
+     << b.stage_work << ")\n  = kinetic change " << b.kinetic - b.kinetic0 << " + elastic change "
+     << b.elastic - b.elastic0 << " + dissipated " << b.totals.dissipated() << " (normal damping "
+     << b.totals.dissipated_normal << ", tangential damping " << b.totals.dissipated_tangential << ", sliding "
+     << b.totals.dissipated_sliding << ", global damping " << b.totals.dissipated_global << ")\n  + residual "
+     << b.residual();
+  if (in != 0.0) os << " (" << 100.0 * b.residual() / std::abs(in) << "% of the work in)";
+  os << "; tangential work " << b.totals.tangential_work;
+  return os.str();
 }
 
 // One terminal line per thermo row; each column as wide as its name, so the header lines up.
@@ -128,7 +154,9 @@ class DemRunModel final : public RunModel {
     diag_step_ = sim_.step_count();
     return sim_.health_check(*diag_, overlap_limit_);
   }
-  std::vector<std::string> thermo_columns() const override { return dem_thermo_columns(sim_.groups()); }
+  std::vector<std::string> thermo_columns() const override {
+    return dem_thermo_columns(sim_.groups(), sim_.settings().energy_accounting);
+  }
   std::vector<double> thermo_row() override {
     if (!diag_ || diag_step_ != sim_.step_count()) {
       diag_ = sim_.diagnostics();
@@ -193,7 +221,9 @@ class DemRunModel final : public RunModel {
   }
   std::string frame_files(const std::string& suffix) const override {
     return "dump" + suffix + ".lammpstrj, trajectory" + suffix + ".xmf + .h5" + (wear_ ? ", wear.csv" : "") +
-           (cfg_.output.pictures ? ", side_view.png, tangential_force.png" : "");
+           (cfg_.output.pictures ? std::string(", side_view.png, tangential_force.png") +
+                                       (sim_.settings().energy_accounting ? ", energy_balance.png" : "")
+                                 : "");
   }
   void write_checkpoint(const std::string& path, const std::string& input) const override {
     // Cut among ranks: every rank writes its rows, rank 0 (which holds the wear analysis) the run state.
@@ -203,6 +233,9 @@ class DemRunModel final : public RunModel {
   std::string apply_stage(int k) override {
     const DemStageChanges& c = cfg_.stage_changes[static_cast<std::size_t>(k)];
     std::ostringstream os;
+    // What the changes do to the energy content is work done on the system (velocities set, the pair law
+    // switched); a spring let go at the switch is dissipated, not work, and stays in the content.
+    const double content = sim_.energy_content();
     if (c.global_damping) {
       sim_.set_global_damping(*c.global_damping);
       os << "global damping " << *c.global_damping << " c_c; ";
@@ -242,6 +275,7 @@ class DemRunModel final : public RunModel {
     }
     // The changes act on this step's forces too (damping, reactions), as they would have at set-up.
     sim_.recompute_forces();
+    if (sim_.settings().energy_accounting) sim_.add_stage_work(sim_.energy_content() - content);
     std::string what = os.str();
     return what.empty() ? what : what.substr(0, what.size() - 2);
   }
@@ -267,14 +301,17 @@ class DemRunModel final : public RunModel {
   }
   std::string closing_report() override {
     migrated_in_all_ = sim_.migrated_in_all();  // every rank closes the run: the sum is collective
-    std::string report = wear_ ? wear_->report() : std::string();
+    std::string report = sim_.settings().energy_accounting ? energy_report(sim_.energy_balance(sim_.diagnostics()))
+                                                           : std::string();
+    if (wear_) report += (report.empty() ? "" : "\n") + wear_->report();
     if (cfg_.output.pictures) {
       sim_.with_whole_system([&](const DemSimulation& whole) {
         write_side_view(output_dir_, "side_end", whole.particles(), picture_units());
         if (!report.empty()) report += '\n';
         const auto& r = whole.particles().radius;
         report += draw_run_pictures(output_dir_, whole.groups(), picture_units(), whole.box().lo(), whole.box().hi(),
-                                    r.empty() ? 0.0 : *std::max_element(r.begin(), r.end()));
+                                    r.empty() ? 0.0 : *std::max_element(r.begin(), r.end()),
+                                    whole.settings().energy_accounting);
       });
     }
     return report;

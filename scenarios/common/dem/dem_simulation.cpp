@@ -88,6 +88,10 @@ void DemSimulation::setup() {
   rebuild_neighbors();
   refuse_coincident_particles();
   compute_forces(0);
+  if (settings_.energy_accounting) {  // the balance counts from here
+    kinetic0_ = totals().kinetic_energy;
+    elastic0_ = diagnostics().elastic_energy;
+  }
 }
 
 void DemSimulation::refuse_coincident_particles() const {
@@ -184,10 +188,17 @@ void DemSimulation::index_half_pass() {
   exec::to_host(table_.delta_f);
   exec::to_host(table_.c_n);
   pairs_to_host();
+  scratch_.energy = settings_.energy_accounting;
   scratch_.index(list_);
 }
 
 void DemSimulation::compute_forces(int update_history) {
+  const bool energy = settings_.energy_accounting;
+  PairEnergyOut energy_out;
+  if (energy) {
+    pair_energy_.resize(p_.size());
+    energy_out = pair_energy_.out();
+  }
   {
     const PassTimer timer(times_.contact);  // eqs 2-5 over the neighbour list
     particles_to_device();
@@ -198,20 +209,24 @@ void DemSimulation::compute_forces(int update_history) {
       particles_to_host();
       pairs_to_host();
       cohesive_contact_pass_half(table_, settings_.options, box_.view(), p_, list_, history_, dt_, update_history,
-                                 scratch_);
+                                 scratch_, energy ? &energy_out : nullptr);
       if constexpr (exec::offload_build()) {
         to_device(p_);
         history_.to_device();
+        if (energy) exec::to_device(pair_energy_.rows);
       }
     } else {
       zero_forces(p_);
-      cohesive_contact_pass(coef_, settings_.options, box_.view(), p_, list_, history_, dt_, update_history);
+      cohesive_contact_pass(coef_, settings_.options, box_.view(), p_, list_, history_, dt_, update_history,
+                            energy ? &energy_out : nullptr);
     }
     device_changed(update_history != 0 ? particles_and_pairs_changed : particles_changed);
   }
   const PassTimer timer(times_.other);
   groups_.measure_reactions(p_, sum_scope());
   global_damping_pass(p_, groups_.view(), damping_);
+  // The forces are final: what each mechanism will take from the integration they drive.
+  if (energy) fold_energy(p_, pair_energy_, groups_.view(), next_group_velocities(groups_, dt_), damping_, dt_);
 }
 
 void DemSimulation::recompute_forces() {
@@ -223,7 +238,7 @@ void DemSimulation::recompute_forces() {
 double DemSimulation::bytes_per_particle() const {
   const double n = static_cast<double>(p_.size());
   return static_cast<double>(Particles::bytes_per_particle()) +
-         static_cast<double>(list_.bytes() + history_.bytes() + table_.bytes() + scratch_.bytes() +
+         static_cast<double>(list_.bytes() + history_.bytes() + table_.bytes() + scratch_.bytes() + pair_energy_.bytes() +
                              owned_.capacity() + sizeof(std::int64_t) * ids_in_order_.capacity()) /
              n;
 }
@@ -233,6 +248,7 @@ void DemSimulation::step() {
   {
     const PassTimer timer(times_.integration);  // eq 1: kick the rigid groups and the particles, drift
     particles_to_device();
+    if (settings_.energy_accounting) commit_energy(p_);  // the shares of this integration, folded with its forces
     kick_rigid_groups(groups_, dt_);
     integrate_semi_implicit_euler(p_, groups_.view(), dt_);
     device_changed(particles_changed);
@@ -268,6 +284,24 @@ void DemSimulation::run(long steps) {
 CohesiveDiagnostics DemSimulation::diagnostics() const {
   particles_to_device();
   return cohesive_diagnostics(coef_, settings_.options, box_.view(), p_, list_, history_, sum_scope());
+}
+
+EnergyBalance DemSimulation::energy_balance(const CohesiveDiagnostics& d) const {
+  particles_to_device();
+  EnergyBalance b;
+  b.kinetic = totals().kinetic_energy;
+  b.elastic = d.elastic_energy;
+  b.kinetic0 = kinetic0_;
+  b.elastic0 = elastic0_;
+  b.stage_work = stage_work_;
+  b.totals = energy_totals(p_, static_cast<int>(groups_.size()), sum_scope());
+  return b;
+}
+
+double DemSimulation::energy_content() const {
+  if (!settings_.energy_accounting) return 0.0;
+  const EnergyBalance b = energy_balance(diagnostics());
+  return b.kinetic + b.elastic + b.totals.dissipated();
 }
 
 double DemSimulation::smallest_radius() const {

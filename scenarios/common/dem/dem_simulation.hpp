@@ -43,6 +43,7 @@
 #include "kernels/dem/cohesive_contact_half.hpp"
 #include "kernels/dem/cohesive_pair_table.hpp"
 #include "kernels/dem/cohesive_material.hpp"
+#include "kernels/dem/energy_accounting.hpp"
 #include "kernels/dem/integrate.hpp"
 #include "kernels/dem/virial_stress.hpp"
 
@@ -74,6 +75,10 @@ struct DemSettings {
   // (each alone: a reference for the distributed run).
   bool distribute = true;
   std::array<int, 3> rank_grid{0, 0, 0};
+  // The energy accounting (kernels/dem/energy_accounting.hpp): the per-particle columns and the balance.
+  // debris_dem turns it on (`output.energy`, true by default); the patch tests, calibration and other
+  // engines built in code run without it unless they ask.
+  bool energy_accounting = false;
 };
 
 /// How a restart on several MPI ranks cuts the system (DemSettings::distribute and rank_grid, which a
@@ -198,6 +203,15 @@ class DemSimulation {
   /// Elastic energy, max overlap and interacting pairs at the current state.
   CohesiveDiagnostics diagnostics() const;
 
+  /// The energy balance since the start of the run (collective when cut among ranks; `d`: this step's
+  /// diagnostics). Only with settings().energy_accounting.
+  EnergyBalance energy_balance(const CohesiveDiagnostics& d) const;
+  /// Kinetic + elastic energy + everything dissipated so far: what a change between steps (a stage) alters
+  /// by the work it does. Collective when cut among ranks.
+  double energy_content() const;
+  /// Adds work done on the system between steps (a stage's changes: energy_content() after minus before).
+  void add_stage_work(double w) { stage_work_ += w; }
+
   /// Average virial stress (kernels/dem/virial_stress.hpp) of the selected particles (`select`: nullptr for all,
   /// or a per-particle mask, nonzero = counted) over `volume`, from the current forces' pair law and
   /// contact history; the state is not modified.
@@ -294,6 +308,8 @@ class DemSimulation {
   ContactHistory history_;
   CohesivePairTable table_;
   HalfPassScratch scratch_;
+  PairEnergyBuffers pair_energy_;  // the contact pass's energy parts, with the accounting on
+  double kinetic0_ = 0, elastic0_ = 0, stage_work_ = 0;  // the balance's start and the stages' work
   PairPass pass_ = PairPass::full;
   double dt_ = 0, damping_ = 0, skin_ = 0, max_cutoff_ = 0;
   long step_ = 0;

@@ -46,7 +46,7 @@ void write_side_view(const std::string& dir, const std::string& name, const Part
 }
 
 std::string draw_run_pictures(const std::string& dir, const Groups& groups, const PictureUnits& u, Vec3 lo, Vec3 hi,
-                              double max_radius) {
+                              double max_radius, bool energy) {
   const fs::path d(dir);
   std::string driven;
   for (const Group& g : groups.list)
@@ -81,6 +81,34 @@ std::string draw_run_pictures(const std::string& dir, const Groups& groups, cons
        << "set xlabel 'sliding distance (" << u.length_name << ")'\nset ylabel 'F_x (" << u.force_name << ")'\n"
        << "plot 'thermo.csv' using (column('" << driven << "_dx') * " << u.length << "):(column('" << driven
        << "_fx') * " << u.force << ") with lines lw 2\n";
+  if (energy) {
+    // Where the work went: the dissipated energy by mechanism stacked, then the elastic and the kinetic
+    // energy's changes since the start, against the work done on the system (thermo.csv's columns).
+    const std::string e = std::to_string(u.force * u.length);
+    auto col = [](const char* name) { return "column('" + std::string(name) + "')"; };
+    const std::string d1 = col("dissipated_normal"), d2 = d1 + " + " + col("dissipated_tangential"),
+                      d3 = d2 + " + " + col("dissipated_sliding"), d4 = d3 + " + " + col("dissipated_global"),
+                      d5 = d4 + " + " + col("elastic_energy") + " - PE0",
+                      d6 = d5 + " + " + col("kinetic_energy") + " - KE0";
+    auto band = [&](const std::string& lo_expr, const std::string& hi_expr, const char* title, const char* colour) {
+      return "'thermo.csv' using (column('time') * 1e9):((" + lo_expr + ") * " + e + "):((" + hi_expr + ") * " + e +
+             ") with filledcurves fc rgb '" + colour + "' title '" + title + "'";
+    };
+    gp << "set terminal pngcairo size 900,560 font ',11'\n"
+       << "set output 'energy_balance.png'\n"
+       << "set size noratio\nset autoscale\nset datafile separator ','\nset key top left\n"
+       << "stats 'thermo.csv' using (column('elastic_energy')) every ::0::0 nooutput\nPE0 = STATS_min\n"
+       << "stats 'thermo.csv' using (column('kinetic_energy')) every ::0::0 nooutput\nKE0 = STATS_min\n"
+       << "set title 'where the work went: work in = dissipated + elastic change + kinetic change + residual'\n"
+       << "set xlabel 'time (ns)'\nset ylabel 'energy (" << u.force_name << " " << u.length_name << ")'\n"
+       << "set style fill solid 0.6 noborder\n"
+       << "plot " << band("0", d1, "normal damping", "#4477aa") << ", \\\n  "
+       << band(d1, d2, "tangential damping", "#66ccee") << ", \\\n  " << band(d2, d3, "sliding", "#228833")
+       << ", \\\n  " << band(d3, d4, "global damping", "#ccbb44") << ", \\\n  "
+       << band(d4, d5, "elastic change", "#ee6677") << ", \\\n  " << band(d5, d6, "kinetic change", "#aa3377")
+       << ", \\\n  'thermo.csv' using (column('time') * 1e9):(column('work_in') * " << e
+       << ") with lines lw 2 lc rgb 'black' title 'work in'\n";
+  }
   gp.close();
   if (!gp) return "pictures: cannot write " + (d / "pictures.gp").string();
   const GnuplotRun run = run_gnuplot(dir, "pictures.gp", "pictures.log");
@@ -88,7 +116,8 @@ std::string draw_run_pictures(const std::string& dir, const Groups& groups, cons
     return "pictures skipped: gnuplot not found (Debian: apt install gnuplot-nox); run `gnuplot pictures.gp` in " +
            dir + " later";
   if (run.status != 0) return "pictures failed: gnuplot could not draw them (see " + dir + "/pictures.log)";
-  return "pictures: " + (d / "side_view.png").string() + (driven.empty() ? "" : ", " + (d / "tangential_force.png").string());
+  return "pictures: " + (d / "side_view.png").string() + (driven.empty() ? "" : ", " + (d / "tangential_force.png").string()) +
+         (energy ? ", " + (d / "energy_balance.png").string() : "");
 }
 
 }  // namespace debris

@@ -31,7 +31,8 @@ void write_side_view(const std::string& dir, const std::string& name, const Part
 /// Writes pictures.gp in `dir` (side_view.png from side_start.dat / side_end.dat, tangential_force.png from
 /// thermo.csv) and runs gnuplot there. Returns the line the run prints: what was drawn, or why not.
 /// Both side views span the box [lo, hi] (the input's units) plus half a particle.
+/// energy: also energy_balance.png, from thermo.csv's energy columns (the accounting on).
 std::string draw_run_pictures(const std::string& dir, const Groups& groups, const PictureUnits& u, Vec3 lo, Vec3 hi,
-                              double max_radius);
+                              double max_radius, bool energy = false);
 
 }  // namespace debris

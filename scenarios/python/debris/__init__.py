@@ -328,6 +328,7 @@ class _Simulation:
         column taken in the edit is put back as it was."""
         self._check_no_edit()
         edit = _Edit()
+        content = self._run.begin_edit()  # what the edit changes of it is work done on the system
         self._edit = edit
         try:
             yield State(self, edit)
@@ -335,7 +336,7 @@ class _Simulation:
             self._edit = None
             written = sorted(edit.saved)
             try:
-                self._run.end_edit(written, bool(set(written) & set(self._position_columns)))
+                self._run.end_edit(written, bool(set(written) & set(self._position_columns)), content)
             except InputError:
                 for name, before in edit.saved.items():
                     self._run.column(name, True, self)[...] = before
@@ -358,6 +359,14 @@ class Dem(_Simulation):
     @property
     def label_names(self):
         return list(self._run.dem_label_names())
+
+    def energy(self):
+        """The energy balance since the start, as thermo.csv's energy columns: {work_in, work_drives (per
+        group), work_stages (stages' and edits' changes), kinetic_energy and _start, elastic_energy and _start,
+        dissipated_normal, dissipated_tangential, dissipated_sliding, dissipated_global, tangential_work,
+        residual}; work_in = the kinetic and elastic changes + the four dissipated + residual. None when
+        output.energy is false."""
+        return self._run.dem_energy()
 
     def diagnostics(self):
         """{kinetic_energy, elastic_energy, max_overlap, interacting_pairs, rebuilds, layout_generation}"""
