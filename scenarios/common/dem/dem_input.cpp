@@ -466,7 +466,7 @@ void read_output(const InputNode& out, DemOutputSettings& o) {
   o.energy = out.boolean("energy", true);
 }
 
-// Stages, run control, the wear analysis and output. `restored`: the physics keys of `run` were skipped.
+// Stages, run control, the wear analysis, the wear census and output. `restored`: the physics keys of `run` were skipped.
 void read_run_control(const InputNode& root, DemRunConfig& cfg, bool restored) {
   const InputNode run = root.child("run");
   std::vector<InputNode> stage_nodes;
@@ -478,6 +478,7 @@ void read_run_control(const InputNode& root, DemRunConfig& cfg, bool restored) {
   if (!restored) read_physics(run, cfg.settings);
   read_checks(run, cfg);
   if (root.has("wear")) cfg.wear = read_wear_settings(root.child("wear"));
+  if (root.has("surfaces")) cfg.surfaces = read_surface_settings(root.child("surfaces"));
   if (root.has("output")) read_output(root.child("output"), cfg.output);
   // A restart keeps the accounting of the run it continues (its sums are in the checkpoint).
   if (!restored) cfg.settings.energy_accounting = cfg.output.energy;

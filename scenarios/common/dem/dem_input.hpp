@@ -13,6 +13,7 @@
 #include "core/particles.hpp"
 #include "scenarios/common/dem/dem_simulation.hpp"
 #include "scenarios/common/run/stages.hpp"
+#include "scenarios/common/dem/surface_census.hpp"
 #include "scenarios/common/dem/wear_analysis.hpp"
 
 namespace debris {
@@ -71,6 +72,7 @@ struct DemRunConfig {
   std::vector<StageLength> stages;
   std::vector<DemStageChanges> stage_changes;  // one per stage
   std::optional<WearSettings> wear;            // the wear analysis (wear.csv), when the input has `wear:`
+  std::optional<SurfaceSettings> surfaces;     // the wear census (surfaces.csv), when the input has `surfaces:`
   DemOutputSettings output;
   /// A restart's input keys that the checkpoint overrides and whose text differs from the input the
   /// checkpoint keeps ("material", "run.time_step"): the runner names them in one line.
@@ -86,7 +88,7 @@ struct DemInputOptions {
   /// `run` (time step, damping, skin, pair-law switches) come from this checkpoint's simulation. Those parts
   /// of the input are not read, so no data file is opened; the ones that differ from `checkpoint_echo`
   /// (the input the checkpoint keeps) are listed in DemRunConfig::ignored_at_restart. Stages, `wear`,
-  /// `output`, run.steps, run.threads and run.overlap_limit are read and applied.
+  /// `surfaces`, `output`, run.steps, run.threads and run.overlap_limit are read and applied.
   const DemSimulation* restored = nullptr;
   std::string checkpoint_echo;
 };

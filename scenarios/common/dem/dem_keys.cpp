@@ -4,6 +4,7 @@
 #include "core/region.hpp"
 #include "scenarios/common/dem/cohesive_material_input.hpp"
 #include "scenarios/common/dem/run_pictures.hpp"
+#include "scenarios/common/dem/surface_census.hpp"
 #include "scenarios/common/dem/wear_analysis.hpp"
 #include "scenarios/common/run/stages.hpp"
 
@@ -206,6 +207,7 @@ const KeyReference& dem_keys() {
     document_stage_changes(r);
     document_run(r);
     document_wear_settings(r);
+    document_surface_settings(r);
     document_output(r);
     document_regions(r);
     return r;
@@ -271,7 +273,8 @@ const ColumnTable& dem_thermo_table() {
 }
 
 std::vector<ColumnTable> dem_output_columns() {
-  return {dem_thermo_table(), WearAnalysis::table(), dump_table(), side_view_table()};
+  return {dem_thermo_table(), WearAnalysis::table(), SurfaceCensus::table(), SurfaceCensus::histogram_table(),
+          dump_table(), side_view_table()};
 }
 
 }  // namespace debris

@@ -20,6 +20,7 @@
 #include "scenarios/common/dem/dem_input.hpp"
 #include "scenarios/common/dem/dem_keys.hpp"
 #include "scenarios/common/dem/run_pictures.hpp"
+#include "scenarios/common/dem/surface_census.hpp"
 #include "scenarios/common/run/runner.hpp"
 
 namespace debris {
@@ -85,16 +86,20 @@ void dem_print_thermo(const std::vector<std::string>& cols, const std::vector<do
 // debris_dem's side of the runner: a DemSimulation with its thermo columns, dump and trajectory frames,
 // health check and stage changes.
 // What a checkpoint keeps of the run beside the system (its `run` group): the health check's limit as it
-// was in force, and the wear analysis's state, so a restart checks and reports as the run in one piece.
+// was in force, and the wear analysis's and the wear census's states, so a restart checks and reports as the
+// run in one piece.
 struct DemRunState {
   std::optional<double> overlap_limit;
   std::optional<WearState> wear;
+  std::optional<SurfaceCensusState> surfaces;
 };
 
-void write_run_state(h5::File& f, double overlap_limit, const std::optional<WearAnalysis>& wear) {
+void write_run_state(h5::File& f, double overlap_limit, const std::optional<WearAnalysis>& wear,
+                     const std::optional<SurfaceCensus>& surfaces) {
   h5::Group run = f.create_group("run");
   run.write_scalar<double>("overlap_limit", overlap_limit);
   if (wear) write_wear_state(run, wear->state());
+  if (surfaces) write_surface_state(run, surfaces->state());
 }
 
 DemRunState read_run_state(const h5::File& f) {
@@ -105,6 +110,7 @@ DemRunState read_run_state(const h5::File& f) {
   if (!(*st.overlap_limit > 0) || !std::isfinite(*st.overlap_limit))
     throw unsound_checkpoint(f.file_path(), "run/overlap_limit is not a positive number");
   st.wear = read_wear_state(run);
+  st.surfaces = read_surface_state(run);
   return st;
 }
 
@@ -112,6 +118,7 @@ class DemRunModel final : public RunModel {
  public:
   DemSimulation& simulation() { return sim_; }
   const WearAnalysis* wear() const { return wear_ ? &*wear_ : nullptr; }
+  const SurfaceCensus* surfaces() const { return surfaces_ ? &*surfaces_ : nullptr; }
   DemRunModel(DemSimulation sim, DemRunConfig cfg, DemRunState restored = {}, std::string checkpoint = {})
       : sim_(std::move(sim)), cfg_(std::move(cfg)) {
     // `auto`: the deepest overlap the run started with, plus one smallest radius (the patch tests' allowance
@@ -131,6 +138,13 @@ class DemRunModel final : public RunModel {
         if (restored.wear) wear_->restore(*restored.wear, checkpoint);
       });
     }
+    if (cfg_.surfaces) {
+      surfaces_restored_ = restored.surfaces.has_value();
+      sim_.with_whole_system([&](const DemSimulation& whole) {
+        surfaces_.emplace(*cfg_.surfaces, whole);
+        if (restored.surfaces) surfaces_->restore(*restored.surfaces, checkpoint);
+      });
+    }
   }
   std::string describe() const {
     std::ostringstream os;
@@ -144,6 +158,7 @@ class DemRunModel final : public RunModel {
   void step() override {
     sim_.step();
     if (cfg_.wear && sim_.step_count() % cfg_.wear->every == 0) sample_wear();
+    if (cfg_.surfaces && sim_.step_count() % cfg_.surfaces->every == 0) sample_surfaces();
   }
   std::size_t items() const override { return sim_.particle_count(); }  // every step: no transfer
   const char* item_name() const override { return "particle"; }
@@ -180,6 +195,7 @@ class DemRunModel final : public RunModel {
     if (root_ || sim_.distributed()) trajectory_.emplace(dir, "trajectory" + suffix, names, sim_.distributed());
     // The other ranks' share of rank 0's first sample below (the analysis gathers the system).
     if (cfg_.wear && !root_ && (suffix.empty() || !wear_restored_)) sample_wear();
+    if (cfg_.surfaces && !root_ && (suffix.empty() || !surfaces_restored_)) sample_surfaces();
     if (!root_) return;  // rank 0 writes the other files
     dump_.emplace((fs::path(dir) / ("dump" + suffix + ".lammpstrj")).string());
     if (wear_) {
@@ -206,6 +222,7 @@ class DemRunModel final : public RunModel {
         sample_wear(false);
       }
     }
+    if (surfaces_) open_surfaces(dir, suffix);
   }
   bool frame_due(long step) const override { return due(cfg_.output.dump_every, step) || due(trajectory_every(), step); }
   void write_frame(bool every_stream) override {
@@ -221,13 +238,15 @@ class DemRunModel final : public RunModel {
   }
   std::string frame_files(const std::string& suffix) const override {
     return "dump" + suffix + ".lammpstrj, trajectory" + suffix + ".xmf + .h5" + (wear_ ? ", wear.csv" : "") +
+           (surfaces_ ? ", surfaces.csv, surfaces_histogram.csv" : "") +
            (cfg_.output.pictures ? std::string(", side_view.png, tangential_force.png") +
                                        (sim_.settings().energy_accounting ? ", energy_balance.png" : "")
-                                 : "");
+                                 : "") +
+           (surfaces_ && cfg_.output.pictures ? ", surfaces.png" : "");
   }
   void write_checkpoint(const std::string& path, const std::string& input) const override {
     // Cut among ranks: every rank writes its rows, rank 0 (which holds the wear analysis) the run state.
-    sim_.write_checkpoint(path, input, [&](h5::File& f) { write_run_state(f, overlap_limit_, wear_); });
+    sim_.write_checkpoint(path, input, [&](h5::File& f) { write_run_state(f, overlap_limit_, wear_, surfaces_); });
   }
 
   std::string apply_stage(int k) override {
@@ -297,6 +316,7 @@ class DemRunModel final : public RunModel {
       rows.push_back({"comm", t.comm, note.str()});
     }
     if (wear_) rows.push_back({"wear", wear_seconds_, "(bonds, clusters, rigid fits: wear.csv)"});
+    if (surfaces_) rows.push_back({"surfaces", surfaces_seconds_, "(states, clusters, contact: surfaces.csv)"});
     return rows;
   }
   std::string closing_report() override {
@@ -304,6 +324,10 @@ class DemRunModel final : public RunModel {
     std::string report = sim_.settings().energy_accounting ? energy_report(sim_.energy_balance(sim_.diagnostics()))
                                                            : std::string();
     if (wear_) report += (report.empty() ? "" : "\n") + wear_->report();
+    if (surfaces_) {
+      if (!report.empty()) report += '\n';
+      report += surfaces_->report();
+    }
     if (cfg_.output.pictures) {
       sim_.with_whole_system([&](const DemSimulation& whole) {
         write_side_view(output_dir_, "side_end", whole.particles(), picture_units());
@@ -312,6 +336,10 @@ class DemRunModel final : public RunModel {
         report += draw_run_pictures(output_dir_, whole.groups(), picture_units(), whole.box().lo(), whole.box().hi(),
                                     r.empty() ? 0.0 : *std::max_element(r.begin(), r.end()),
                                     whole.settings().energy_accounting);
+        if (surfaces_) {
+          report += '\n';
+          report += draw_surface_pictures(output_dir_, *surfaces_, picture_units());
+        }
       });
     }
     return report;
@@ -327,6 +355,45 @@ class DemRunModel final : public RunModel {
       if (wear_csv_ && write) wear_csv_->write_row(WearAnalysis::row(w));
     });
     wear_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  // The census as the wear analysis: collective when cut among ranks, rank 0 samples and writes.
+  void sample_surfaces(bool write = true) {
+    const auto t0 = std::chrono::steady_clock::now();
+    sim_.with_whole_system([&](const DemSimulation& whole) {
+      const SurfaceSample& s = surfaces_->sample(whole);
+      if (surfaces_csv_ && write) {
+        surfaces_csv_->write_row(SurfaceCensus::row(s));
+        for (const std::vector<double>& row : surfaces_->histogram_rows(s)) histogram_csv_->write_row(row);
+      }
+    });
+    surfaces_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  // surfaces.csv resumes as wear.csv does; surfaces_histogram.csv (several rows per sample) is written anew
+  // from the census's samples, which the checkpoint holds up to its step.
+  void open_surfaces(const std::string& dir, const std::string& suffix) {
+    namespace fs = std::filesystem;
+    const std::string path = (fs::path(dir) / "surfaces.csv").string();
+    const std::string histogram = (fs::path(dir) / "surfaces_histogram.csv").string();
+    histogram_csv_.emplace(histogram, SurfaceCensus::histogram_columns());
+    if (suffix.empty()) {
+      surfaces_csv_.emplace(path, SurfaceCensus::columns());
+      sample_surfaces();
+      return;
+    }
+    ThermoResume resume{sim_.step_count(), cfg_.surfaces->every, {}};
+    if (surfaces_restored_)
+      for (const SurfaceSample& s : surfaces_->samples())
+        if (s.step <= sim_.step_count()) {
+          resume.known.emplace(s.step, SurfaceCensus::row(s));
+          for (const std::vector<double>& row : surfaces_->histogram_rows(s)) histogram_csv_->write_row(row);
+        }
+    surfaces_csv_.emplace(path, SurfaceCensus::columns(), resume);
+    if (!surfaces_csv_->repair_note().empty()) std::cout << surfaces_csv_->repair_note() << "\n";
+    if (!surfaces_restored_) {
+      std::cout << "surfaces: the checkpoint holds no census state; it starts afresh at the restart (its window, "
+                   "states and work count from here; surfaces_histogram.csv starts afresh)\n";
+      sample_surfaces(false);
+    }
   }
   PictureUnits picture_units() const {
     const Vec3 extent = sim_.box().hi() - sim_.box().lo();
@@ -350,6 +417,10 @@ class DemRunModel final : public RunModel {
   std::string output_dir_;
   bool wear_restored_ = false;
   double wear_seconds_ = 0;
+  std::optional<SurfaceCensus> surfaces_;
+  std::optional<ThermoCsv> surfaces_csv_, histogram_csv_;
+  bool surfaces_restored_ = false;
+  double surfaces_seconds_ = 0;
 };
 
 }  // namespace
@@ -364,6 +435,12 @@ const WearAnalysis* dem_wear_analysis(const RunModel& model) {
   const auto* m = dynamic_cast<const DemRunModel*>(&model);
   if (!m) throw std::invalid_argument("dem_wear_analysis: not a model of prepare_dem_run");
   return m->wear();
+}
+
+const SurfaceCensus* dem_surface_census(const RunModel& model) {
+  const auto* m = dynamic_cast<const DemRunModel*>(&model);
+  if (!m) throw std::invalid_argument("dem_surface_census: not a model of prepare_dem_run");
+  return m->surfaces();
 }
 
 RunPlan prepare_dem_run(const RunOptions& opt) {
@@ -399,6 +476,10 @@ RunPlan prepare_dem_run(const RunOptions& opt) {
         throw input_error("stages.groups.name", gc.motion.name, "is not a group of the checkpoint's system");
   }
   RunPlan plan = make_run_plan(cfg, sim.dt(), restored.has_value(), threads, in.text);
+  if (cfg.surfaces)  // the run's length: the stages' total, or run.steps without stages
+    check_surface_window(*cfg.surfaces,
+                         static_cast<double>(cfg.stages.empty() ? cfg.steps : resolve_stages(cfg.stages, sim.dt()).end) *
+                             sim.dt());
   auto model = std::make_unique<DemRunModel>(std::move(sim), std::move(cfg), std::move(run_state), opt.restart);
   std::cout << model->describe() << "\n";
   plan.model = std::move(model);

@@ -1,6 +1,6 @@
 #pragma once
 // debris_dem's run as the shared runner sees it: a RunModel over a DemSimulation (thermo columns, dump,
-// trajectory and pictures, the health check, stages, the wear analysis, checkpoints with the run's own
+// trajectory and pictures, the health check, stages, the wear analysis and census, checkpoints with the run's own
 // state), and the set-up that builds it from the input or a checkpoint. A library, not the executable's
 // main, so that other drivers (the Python module, scenarios/python) run a DEM input exactly as debris_dem
 // does.
@@ -10,6 +10,7 @@ namespace debris {
 
 class DemSimulation;
 class WearAnalysis;
+class SurfaceCensus;
 
 /// Reads the input (or the checkpoint), builds and validates the system and prints what the executable
 /// prints before stepping; InputError for bad input, before anything is written.
@@ -20,5 +21,7 @@ RunPlan prepare_dem_run(const RunOptions& options);
 DemSimulation& dem_simulation(RunModel& model);
 /// Its wear analysis, or nullptr when the input has no `wear:`.
 const WearAnalysis* dem_wear_analysis(const RunModel& model);
+/// Its wear census, or nullptr when the input has no `surfaces:`.
+const SurfaceCensus* dem_surface_census(const RunModel& model);
 
 }  // namespace debris

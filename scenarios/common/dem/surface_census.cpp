@@ -1,0 +1,831 @@
+#include "scenarios/common/dem/surface_census.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <tuple>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/error.hpp"
+#include "core/io/hdf5_file.hpp"
+#include "core/io/input.hpp"
+#include "scenarios/common/dem/dem_simulation.hpp"
+#include "scenarios/common/dem/run_pictures.hpp"
+#include "scenarios/common/run/gnuplot.hpp"
+
+namespace debris {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kBottom = static_cast<int>(SurfaceState::bottom);
+constexpr int kTop = static_cast<int>(SurfaceState::top);
+constexpr int kThird = static_cast<int>(SurfaceState::third);
+
+double comp(const Vec3& v, int a) { return a == 0 ? v.x : (a == 1 ? v.y : v.z); }
+
+double sphere_volume(double r) { return 4.0 / 3.0 * kPi * r * r * r; }
+double equivalent_diameter(double volume) { return std::cbrt(6.0 * volume / kPi); }
+
+int read_axis(const InputNode& n, const std::string& key, const std::string& fallback) {
+  const std::string a = n.choice(key, {"x", "y", "z"}, fallback);
+  return a == "x" ? 0 : (a == "y" ? 1 : 2);
+}
+
+std::string list_text(const std::vector<std::string>& names) {
+  if (names.size() == 1) return names[0];
+  std::string t = "[";
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    if (k > 0) t += ", ";
+    t += names[k];
+  }
+  t += "]";
+  return t;
+}
+
+SurfaceBodySettings read_body(const InputNode& n, const std::string& key) {
+  const InputNode b = n.child(key);
+  SurfaceBodySettings s;
+  const bool by_label = b.has("label"), by_group = b.has("group");
+  if (by_label == by_group)
+    throw input_error(b.path(), by_label ? "label and group" : "neither label nor group",
+                      "give the body's particles by one of `label` (a name or a list) or `group`");
+  if (by_label) {
+    if (b.child("label").is_sequence()) {
+      for (const InputNode& e : b.list("label")) s.labels.push_back(e.text());
+      if (s.labels.empty()) throw input_error(b.path() + ".label", "[]", "name at least one label");
+    } else {
+      s.labels.push_back(b.string("label"));
+    }
+  } else {
+    s.group = b.string("group");
+  }
+  s.driven = b.string("driven");
+  return s;
+}
+
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int i) {
+    while (parent[static_cast<std::size_t>(i)] != i) {
+      parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
+      i = parent[static_cast<std::size_t>(i)];
+    }
+    return i;
+  }
+  // The root of a set is its smallest member, whatever order the pairs come in.
+  void unite(int a, int b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+  }
+};
+
+}  // namespace
+
+SurfaceSettings read_surface_settings(const InputNode& n) {
+  SurfaceSettings s;
+  s.every = n.integer("every");
+  if (s.every < 1) throw input_error(n.path() + ".every", std::to_string(s.every), "must be >= 1 (steps)");
+  s.bottom = read_body(n, "bottom");
+  s.top = read_body(n, "top");
+  s.sliding_axis = read_axis(n, "sliding_axis", "x");
+  s.normal_axis = read_axis(n, "normal_axis", "y");
+  if (s.sliding_axis == s.normal_axis)
+    throw input_error(n.path() + ".normal_axis", std::string(1, "xyz"[s.normal_axis]), "must differ from sliding_axis");
+  s.window = n.quantity("window", units::time);
+  if (!(s.window > 0) || !std::isfinite(s.window))
+    throw input_error(n.path() + ".window", format_value(s.window), "must be > 0 (a time)");
+  if (n.has("moving")) {
+    const std::vector<double> v = n.numbers("moving", units::dimensionless);
+    if (v.size() != 2 || !(v[0] < v[1]) || !(v[0] > 0 && v[1] < 1))
+      throw input_error(n.path() + ".moving",
+                        v.size() == 2 ? "[" + format_value(v[0]) + ", " + format_value(v[1]) + "]"
+                                      : std::to_string(v.size()) + " values",
+                        "give [min, max] with 0 < min < max < 1 (fractions of the top body's relative displacement)");
+    s.moving_min = v[0];
+    s.moving_max = v[1];
+  }
+  if (n.has("histogram_bins")) {
+    s.histogram_bins = n.numbers("histogram_bins", units::length);
+    bool ok = s.histogram_bins.size() >= 2;
+    for (std::size_t k = 0; k < s.histogram_bins.size() && ok; ++k)
+      ok = std::isfinite(s.histogram_bins[k]) && s.histogram_bins[k] > 0 &&
+           (k == 0 || s.histogram_bins[k] > s.histogram_bins[k - 1]);
+    if (!ok)
+      throw input_error(n.path() + ".histogram_bins", std::to_string(s.histogram_bins.size()) + " values",
+                        "give at least two increasing diameters > 0 (the bins' edges)");
+  }
+  if (n.has("min_slide")) {
+    s.min_slide = n.quantity("min_slide", units::length);
+    if (!(s.min_slide > 0) || !std::isfinite(s.min_slide))
+      throw input_error(n.path() + ".min_slide", format_value(s.min_slide), "must be > 0 (a length)");
+  }
+  return s;
+}
+
+void check_surface_window(const SurfaceSettings& s, double run_time) {
+  if (s.window > run_time * (1 + 1e-9))
+    throw input_error("surfaces.window", format_value(s.window),
+                      "is longer than the run (" + format_value(run_time) + " s): the window would never fill");
+}
+
+void document_surface_settings(KeyReference& r) {
+  const SurfaceSettings d;  // the reader's defaults
+  r.describe_section("surfaces",
+                     "The wear census of a sliding interface: every `every` steps each particle is put with the "
+                     "bottom body, the top body or neither (the third body) by its displacement along the slide "
+                     "over the last `window`, as a fraction f of the top driven group's relative to the bottom "
+                     "one's; the third body's particles joined by pairs in interaction range form its clusters "
+                     "(wear particles). Each sample is a row of `surfaces.csv` (volumes, transfer, wear volume, "
+                     "clusters, friction coefficient, tangential work, real contact area) and rows of "
+                     "`surfaces_histogram.csv`; with `output.pictures`, `surfaces.png`.");
+  r.key("surfaces").is(KeyKind::section).fallback_is("no census")
+      .means("the wear census of the interface between two bodies, written to `surfaces.csv`");
+  r.key("surfaces.every").is(KeyKind::integer).allowed(">= 1").means("steps between two samples");
+  for (const char* body : {"bottom", "top"}) {
+    const std::string b = std::string("surfaces.") + body;
+    const bool bottom = std::string(body) == "bottom";
+    r.key(b).is(KeyKind::section).allowed("`label` or `group`, and `driven`")
+        .means(bottom ? "the body f = 0 stands for" : "the body f = 1 stands for");
+    r.key(b + ".label").is(KeyKind::text).or_a_list().fallback_is("give `label` or `group`")
+        .allowed(std::string("labels of `labels`, none of the ") + (bottom ? "top" : "bottom") + " body's")
+        .means("the body's particles at the start: those with these labels (and the driven group's)");
+    r.key(b + ".group").is(KeyKind::text).fallback_is("give `label` or `group`")
+        .allowed(std::string("a group of `groups`, not the ") + (bottom ? "top" : "bottom") + " body's")
+        .means("the body's particles at the start: this group's (and the driven group's)");
+    r.key(b + ".driven").is(KeyKind::text)
+        .allowed(std::string("a group of `groups` holding particles, not the ") + (bottom ? "top" : "bottom") +
+                 " body's driven group")
+        .means(bottom ? "the group whose displacement is the bottom body's (f = 0)"
+                      : "the group whose displacement is the top body's (f = 1); its reaction gives the friction "
+                        "coefficient");
+  }
+  r.key("surfaces.sliding_axis").one_of({"x", "y", "z"}).fallback("x").means("the axis the bodies slide along");
+  r.key("surfaces.normal_axis").one_of({"x", "y", "z"}).fallback("y").allowed("not `sliding_axis`")
+      .means("the axis normal to the interface");
+  r.key("surfaces.window").is(KeyKind::quantity).in(units::time)
+      .allowed("> 0, at most the run's length (the stages' total, or `run.steps` without stages)")
+      .means("f is the displacement over this last stretch of the run (before it has filled: since the first "
+             "sample)");
+  std::string moving = "[";  // appended: GCC 12 warns falsely (-Wrestrict) on "[" + std::string
+  moving += format_value(d.moving_min);
+  moving += ", ";
+  moving += format_value(d.moving_max);
+  moving += "]";
+  r.key("surfaces.moving").is(KeyKind::numbers).in(units::dimensionless).fallback(moving)
+      .allowed("[min, max], 0 < min < max < 1")
+      .means("f < min moves with the bottom body, f > max with the top body, in between with neither (the third "
+             "body)");
+  r.key("surfaces.histogram_bins").is(KeyKind::numbers).in(units::length)
+      .fallback_is("edges d_s 2^((k - 1/2) / 3), d_s the smallest particle's diameter, up to the equivalent "
+                   "diameter of all particles: each bin doubles the volume, bin k holds clusters of about 2^k "
+                   "smallest particles")
+      .allowed("at least two increasing diameters > 0")
+      .means("the edges of the equivalent-diameter bins of surfaces_histogram.csv (a cluster below the first "
+             "edge counts in the first bin, one above the last in the last)");
+  r.key("surfaces.min_slide").is(KeyKind::quantity).in(units::length)
+      .fallback_is("the smallest particle's radius").allowed("> 0")
+      .means("f classifies only when the driven groups slid at least this far relative to each other over the "
+             "window; before, each particle keeps its last state");
+}
+
+double tangential_work_increment(double top_force_before, double top_force_after, double top_shift_before,
+                                 double top_shift_after, double bottom_force_before, double bottom_force_after,
+                                 double bottom_shift_before, double bottom_shift_after) {
+  // The reaction is the force of the particles on the driven group; the drive that moves it exerts the
+  // opposite and does -R dx on the system. Trapezoid between two samples: exact for a reaction that changes
+  // linearly in between, an estimate of the stick-slip in between otherwise.
+  return -0.5 * (top_force_before + top_force_after) * (top_shift_after - top_shift_before) -
+         0.5 * (bottom_force_before + bottom_force_after) * (bottom_shift_after - bottom_shift_before);
+}
+
+PowerFit fit_power_law(const std::vector<double>& w, const std::vector<double>& v) {
+  PowerFit fit;
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  long n = 0;
+  for (std::size_t k = 0; k < w.size() && k < v.size(); ++k) {
+    if (!(w[k] > 0) || !(v[k] > 0) || !std::isfinite(w[k]) || !std::isfinite(v[k])) continue;
+    const double x = std::log(w[k]), y = std::log(v[k]);
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
+    ++n;
+  }
+  fit.points = n;
+  if (n < 2) return fit;
+  const double dn = static_cast<double>(n);
+  const double var = sxx - sx * sx / dn;
+  if (!(var > 1e-12 * std::max(1.0, sxx))) return fit;
+  fit.made = true;
+  fit.exponent = (sxy - sx * sy / dn) / var;
+  fit.prefactor = std::exp((sy - fit.exponent * sx) / dn);
+  return fit;
+}
+
+SurfaceCensus::SurfaceCensus(const SurfaceSettings& settings, const DemSimulation& sim) : s_(settings) {
+  const Groups& groups = sim.groups();
+  const Particles& p = sim.particles();
+  const std::vector<std::string>& labels = p.label_names;
+  // Each body's members at the start: a label index set or a group.
+  struct Body {
+    std::vector<int> labels;  // label k names label_names[k - 1]
+    int group = -1;
+    int driven = -1;
+  };
+  auto resolve = [&](const SurfaceBodySettings& b, const std::string& at) {
+    Body out;
+    for (const std::string& name : b.labels) {
+      const auto it = std::find(labels.begin(), labels.end(), name);
+      if (it == labels.end()) throw input_error(at + ".label", name, "no such label");
+      out.labels.push_back(static_cast<int>(it - labels.begin()) + 1);
+    }
+    if (!b.group.empty()) {
+      out.group = groups.find(b.group);
+      if (out.group < 0) throw input_error(at + ".group", b.group, "no such group");
+    }
+    out.driven = groups.find(b.driven);
+    if (out.driven < 0) throw input_error(at + ".driven", b.driven, "no such group");
+    if (std::none_of(p.group.begin(), p.group.end(), [&](int g) { return g == out.driven; }))
+      throw input_error(at + ".driven", b.driven, "the group holds no particle");
+    return out;
+  };
+  const Body bottom = resolve(s_.bottom, "surfaces.bottom");
+  const Body top = resolve(s_.top, "surfaces.top");
+  for (int l : top.labels)
+    if (std::find(bottom.labels.begin(), bottom.labels.end(), l) != bottom.labels.end())
+      throw input_error("surfaces.top.label", labels[static_cast<std::size_t>(l - 1)],
+                        "is the bottom body's label too: the two bodies must differ");
+  if (top.group >= 0 && top.group == bottom.group)
+    throw input_error("surfaces.top.group", s_.top.group, "is the bottom body's group too: the two bodies must differ");
+  if (top.driven == bottom.driven)
+    throw input_error("surfaces.top.driven", s_.top.driven,
+                      "is the bottom body's driven group too: the two bodies must move apart");
+  bottom_driven_ = bottom.driven;
+  top_driven_ = top.driven;
+
+  auto holds = [&](const Body& b, std::size_t i) {
+    if (p.group[i] == b.driven) return true;
+    if (b.group >= 0) return p.group[i] == b.group;
+    return std::find(b.labels.begin(), b.labels.end(), p.label[i]) != b.labels.end();
+  };
+  double smallest = 0, total = 0;
+  std::vector<std::pair<std::int64_t, double>> volumes;  // (id, volume), summed in id order below
+  std::vector<char> in_bottom(p.size(), 0), in_top(p.size(), 0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const bool b = holds(bottom, i), t = holds(top, i);
+    if (b && t) {
+      // Only through a driven group that the other body's labels or group also hold.
+      const bool bottom_driven = p.group[i] == bottom.driven;
+      throw input_error(bottom_driven ? "surfaces.bottom.driven" : "surfaces.top.driven",
+                        bottom_driven ? s_.bottom.driven : s_.top.driven,
+                        "holds particle id " + std::to_string(p.id[i]) + " of the " +
+                            (bottom_driven ? "top" : "bottom") + " body: the two bodies must not share particles");
+    }
+    in_bottom[i] = b;
+    in_top[i] = t;
+    const int origin = b ? kBottom : (t ? kTop : kThird);
+    origin_.emplace(p.id[i], origin);
+    state_.emplace(p.id[i], origin);
+    smallest = i == 0 ? p.radius[i] : std::min(smallest, p.radius[i]);
+    volumes.emplace_back(p.id[i], sphere_volume(p.radius[i]));
+  }
+  if (std::find(in_bottom.begin(), in_bottom.end(), 1) == in_bottom.end())
+    throw input_error(s_.bottom.labels.empty() ? "surfaces.bottom.group" : "surfaces.bottom.label",
+                      s_.bottom.labels.empty() ? s_.bottom.group : list_text(s_.bottom.labels), "holds no particle");
+  if (std::find(in_top.begin(), in_top.end(), 1) == in_top.end())
+    throw input_error(s_.top.labels.empty() ? "surfaces.top.group" : "surfaces.top.label",
+                      s_.top.labels.empty() ? s_.top.group : list_text(s_.top.labels), "holds no particle");
+  std::sort(volumes.begin(), volumes.end());
+  for (const auto& v : volumes) total += v.second;
+  min_slide_ = s_.min_slide > 0 ? s_.min_slide : smallest;
+  if (!s_.histogram_bins.empty()) {
+    edges_ = s_.histogram_bins;
+  } else {
+    // Each bin doubles the volume; bin k is centred (in log) on 2^k smallest particles, so the clusters of
+    // 1, 2, 4, ... equal particles never sit on an edge.
+    const double d_s = 2.0 * smallest, d_all = equivalent_diameter(total);
+    for (int k = 0;; ++k) {
+      edges_.push_back(d_s * std::exp2((k - 0.5) / 3.0));
+      if (edges_.back() > d_all && k >= 1) break;
+    }
+  }
+}
+
+SurfaceState SurfaceCensus::state_of(std::int64_t id) const {
+  const auto it = state_.find(id);
+  if (it == state_.end()) throw std::out_of_range("surfaces: no particle id " + std::to_string(id));
+  return static_cast<SurfaceState>(it->second);
+}
+
+const SurfaceSample& SurfaceCensus::sample(const DemSimulation& sim) {
+  const Particles& p = sim.particles();
+  const BoxView bv = sim.box().view();
+  const std::size_t n = p.size();
+  SurfaceSample out;
+  out.step = sim.step_count();
+  out.time = sim.time();
+  const Group& top = sim.groups().list[static_cast<std::size_t>(top_driven_)];
+  const Group& bottom = sim.groups().list[static_cast<std::size_t>(bottom_driven_)];
+  const int s = s_.sliding_axis;
+  out.tangential_force = comp(top.reaction, s);
+  out.normal_force = comp(top.reaction, s_.normal_axis);
+  out.friction_coefficient = out.normal_force != 0 ? std::abs(out.tangential_force) / std::abs(out.normal_force) : 0.0;
+  out.top_shift = comp(top.displacement, s);
+  out.bottom_shift = comp(bottom.displacement, s);
+  out.bottom_force = comp(bottom.reaction, s);
+  out.slide = out.top_shift - out.bottom_shift;
+  if (!samples_.empty()) {
+    const SurfaceSample& b = samples_.back();
+    out.tangential_work = b.tangential_work +
+                          tangential_work_increment(b.tangential_force, out.tangential_force, b.top_shift,
+                                                    out.top_shift, b.bottom_force, out.bottom_force, b.bottom_shift,
+                                                    out.bottom_shift);
+  }
+
+  // The particles in id order: every sum below runs in it, so no storage order changes a bit.
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+  std::vector<int> rank(n);
+  for (std::size_t k = 0; k < n; ++k) rank[order[k]] = static_cast<int>(k);
+
+  // 1. Each particle's state from f over the window (or since the first sample).
+  std::vector<Vec3> unwrapped(n);
+  std::unordered_map<std::int64_t, Vec3> now;
+  now.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    unwrapped[i] = Vec3{p.x[i] + p.ix[i] * bv.len[0], p.y[i] + p.iy[i] * bv.len[1], p.z[i] + p.iz[i] * bv.len[2]};
+    now.emplace(p.id[i], unwrapped[i]);
+  }
+  history_.push_back({out.time, std::move(now)});
+  // Keep the snapshots back to one window ago (and the one just before, the reference), as the junction's
+  // analysis does.
+  while (history_.size() > 2 && out.time - history_[1].first >= s_.window * (1 - 1e-9)) history_.pop_front();
+  const auto& [t0, ref] = history_.front();
+  out.window_time = out.time - t0;
+  std::vector<double> dx(n, 0.0);
+  std::vector<char> known(n, 0);
+  double top_dx = 0, top_mass = 0, bottom_dx = 0, bottom_mass = 0;
+  for (std::size_t i : order) {
+    const auto it = ref.find(p.id[i]);
+    if (it == ref.end()) continue;
+    known[i] = 1;
+    dx[i] = comp(unwrapped[i] - it->second, s);
+    if (p.group[i] == top_driven_) top_dx += p.mass[i] * dx[i], top_mass += p.mass[i];
+    if (p.group[i] == bottom_driven_) bottom_dx += p.mass[i] * dx[i], bottom_mass += p.mass[i];
+  }
+  if (top_mass > 0) top_dx /= top_mass;
+  if (bottom_mass > 0) bottom_dx /= bottom_mass;
+  const double relative = top_dx - bottom_dx;
+  out.window_slide = relative;
+  out.classified = out.window_time > 0 && std::abs(relative) >= min_slide_;
+  if (out.classified) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!known[i]) continue;
+      int st = kThird;
+      if (p.group[i] == bottom_driven_) {
+        st = kBottom;
+      } else if (p.group[i] == top_driven_) {
+        st = kTop;
+      } else {
+        const double f = (dx[i] - bottom_dx) / relative;
+        st = f < s_.moving_min ? kBottom : (f > s_.moving_max ? kTop : kThird);
+      }
+      state_[p.id[i]] = st;
+    }
+  }
+  std::vector<int> st(n), origin(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto it = state_.find(p.id[i]);
+    const auto o = origin_.find(p.id[i]);
+    // A particle the census has not seen (none is added during a run): with neither body.
+    st[i] = it == state_.end() ? kThird : it->second;
+    origin[i] = o == origin_.end() ? kThird : o->second;
+  }
+
+  // 2. Pairs in interaction range now (as the junction analysis decides it): third-body pairs join clusters,
+  // pairs joining the two bodies are the real contact.
+  const CohesiveCutoff range{sim.coefficients()};
+  const double area_n = sim.coefficients().area_n;
+  const NeighborList& list = sim.neighbors();
+  UnionFind clusters(n);  // over ranks (id order), so the roots do not depend on the storage order
+  std::vector<std::tuple<std::int64_t, std::int64_t, double>> contacts;
+  for (int i = 0; i < list.rows(); ++i) {
+    const std::size_t a = static_cast<std::size_t>(i);
+    for (int k = list.offset()[i]; k < list.offset()[i + 1]; ++k) {
+      const std::size_t b = static_cast<std::size_t>(list.index()[k]);
+      if (b <= a && list.kind() == NeighborKind::full) continue;  // a full list holds each pair twice
+      const Vec3 d = minimum_image(bv, Vec3{p.x[a] - p.x[b], p.y[a] - p.y[b], p.z[a] - p.z[b]});
+      if (norm(d) >= range(p.radius[a], p.radius[b])) continue;
+      if (st[a] == kThird && st[b] == kThird) {
+        clusters.unite(rank[a], rank[b]);
+      } else if ((st[a] == kBottom && st[b] == kTop) || (st[a] == kTop && st[b] == kBottom)) {
+        // The pair's contact cross-section A_N = sqrt(2) r_eff^2 / (1 - 2 nu), r_eff = min(r_i, r_j): paper
+        // A eqs 14-15 (the area its normal stiffness, eq 7, acts over).
+        const double r_eff = std::min(p.radius[a], p.radius[b]);
+        contacts.emplace_back(std::min(p.id[a], p.id[b]), std::max(p.id[a], p.id[b]), area_n * r_eff * r_eff);
+      }
+    }
+  }
+  std::sort(contacts.begin(), contacts.end());
+  out.contact_pairs = static_cast<long>(contacts.size());
+  for (const auto& c : contacts) out.contact_area += std::get<2>(c);
+
+  // 3. Volumes, transfer and the third body's clusters, in id order.
+  std::vector<double> cluster_volume(n, 0.0), from_bottom(n, 0.0), from_top(n, 0.0), from_neither(n, 0.0);
+  std::vector<long> cluster_count(n, 0);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t i = order[k];
+    const double v = sphere_volume(p.radius[i]);
+    if (st[i] == kBottom) {
+      out.bottom_volume += v;
+      ++out.bottom_particles;
+      if (origin[i] == kTop) out.to_bottom_volume += v;
+    } else if (st[i] == kTop) {
+      out.top_volume += v;
+      ++out.top_particles;
+      if (origin[i] == kBottom) out.to_top_volume += v;
+    } else {
+      out.third_volume += v;
+      ++out.third_particles;
+      const std::size_t r = static_cast<std::size_t>(clusters.find(static_cast<int>(k)));
+      cluster_volume[r] += v;
+      ++cluster_count[r];
+      (origin[i] == kBottom ? from_bottom : origin[i] == kTop ? from_top : from_neither)[r] += v;
+    }
+  }
+  out.wear_volume = out.third_volume + out.to_bottom_volume + out.to_top_volume;
+  const std::size_t bins = edges_.size() - 1;
+  out.bin_clusters.assign(bins, 0.0);
+  out.bin_volume.assign(bins, 0.0);
+  std::size_t largest = n;
+  for (std::size_t r = 0; r < n; ++r) {
+    if (cluster_count[r] == 0) continue;
+    ++out.clusters;
+    if (largest == n || cluster_volume[r] > cluster_volume[largest]) largest = r;
+    const double d = equivalent_diameter(cluster_volume[r]);
+    const std::size_t at = static_cast<std::size_t>(std::upper_bound(edges_.begin(), edges_.end(), d) - edges_.begin());
+    const std::size_t bin = at == 0 ? 0 : std::min(at - 1, bins - 1);
+    out.bin_clusters[bin] += 1;
+    out.bin_volume[bin] += cluster_volume[r];
+  }
+  if (largest < n) {
+    out.largest_volume = cluster_volume[largest];
+    out.largest_particles = cluster_count[largest];
+    out.largest_diameter = equivalent_diameter(cluster_volume[largest]);
+    out.largest_from_bottom = from_bottom[largest] / cluster_volume[largest];
+    out.largest_from_top = from_top[largest] / cluster_volume[largest];
+    out.largest_from_neither = from_neither[largest] / cluster_volume[largest];
+  }
+  samples_.push_back(std::move(out));
+  return samples_.back();
+}
+
+const ColumnTable& SurfaceCensus::table() {
+  static const ColumnTable t{
+      "surfaces.csv",
+      "One row every `surfaces.every` steps: the census of the interface (`surfaces:` section). The states bottom, "
+      "top and third body come from f, each particle's displacement along the slide over the window as a "
+      "fraction of the top driven group's (both relative to the bottom driven group's); the clusters from the "
+      "graph of pairs in interaction range among third-body particles.",
+      {
+          {"step", "-", "time step number", ""},
+          {"time", "s", "simulated time", ""},
+          {"slide", "m", "sliding distance: the top driven group's displacement along the slide less the bottom one's, since the start", ""},
+          {"tangential_force", "N", "the top driven group's reaction along the sliding axis", ""},
+          {"normal_force", "N", "the top driven group's reaction along the normal axis", ""},
+          {"friction_coefficient", "-", "|tangential_force| / |normal_force| (0 while the normal force is 0)", ""},
+          {"tangential_work", "J",
+           "work the drives did along the slide since the first sample: minus each driven group's reaction times "
+           "its displacement, trapezoid between samples",
+           ""},
+          {"contact_pairs", "-", "pairs in interaction range joining a particle of the bottom body to one of the top body (by state)", ""},
+          {"contact_area", "m^2", "the real contact area: those pairs' contact cross-sections A_N summed (paper A eqs 14-15)", ""},
+          {"bottom_volume", "m^3", "volume of the particles moving with the bottom body (f < moving min)", ""},
+          {"top_volume", "m^3", "volume of the particles moving with the top body (f > moving max)", ""},
+          {"third_volume", "m^3", "volume of the particles moving with neither body: the third body", ""},
+          {"transferred_to_bottom", "m^3", "volume that started in the top body and moves with the bottom body", ""},
+          {"transferred_to_top", "m^3", "volume that started in the bottom body and moves with the top body", ""},
+          {"wear_volume", "m^3", "third_volume + transferred_to_bottom + transferred_to_top", ""},
+          {"bottom_particles", "-", "particles moving with the bottom body", ""},
+          {"top_particles", "-", "particles moving with the top body", ""},
+          {"third_particles", "-", "particles of the third body", ""},
+          {"clusters", "-", "the third body's clusters: its particles connected by pairs in interaction range", ""},
+          {"largest_cluster_volume", "m^3", "volume of the largest cluster (0: no third body)", ""},
+          {"largest_cluster_particles", "-", "its particles", ""},
+          {"largest_cluster_diameter", "m", "its equivalent diameter (6 V / pi)^(1/3)", ""},
+          {"largest_from_bottom", "-", "share of its volume that started in the bottom body", ""},
+          {"largest_from_top", "-", "share of its volume that started in the top body", ""},
+          {"largest_from_neither", "-", "share of its volume that started in neither body", ""},
+          {"window_time", "s", "the time f's displacements span: the window, or less before it has filled", ""},
+          {"window_slide", "m", "the driven groups' relative slide over that time", ""},
+          {"classified", "-",
+           "1 when f classified the particles; 0 when window_slide was below `surfaces.min_slide` and each kept its "
+           "last state",
+           ""},
+      }};
+  return t;
+}
+
+std::vector<double> SurfaceCensus::row(const SurfaceSample& s) {
+  return {static_cast<double>(s.step), s.time, s.slide, s.tangential_force, s.normal_force, s.friction_coefficient,
+          s.tangential_work, static_cast<double>(s.contact_pairs), s.contact_area, s.bottom_volume, s.top_volume,
+          s.third_volume, s.to_bottom_volume, s.to_top_volume, s.wear_volume, static_cast<double>(s.bottom_particles),
+          static_cast<double>(s.top_particles), static_cast<double>(s.third_particles), static_cast<double>(s.clusters),
+          s.largest_volume, static_cast<double>(s.largest_particles), s.largest_diameter, s.largest_from_bottom,
+          s.largest_from_top, s.largest_from_neither, s.window_time, s.window_slide, s.classified ? 1.0 : 0.0};
+}
+
+const ColumnTable& SurfaceCensus::histogram_table() {
+  static const ColumnTable t{
+      "surfaces_histogram.csv",
+      "With `surfaces:`, one row per sample and equivalent-diameter bin (`surfaces.histogram_bins`): the third "
+      "body's clusters by size.",
+      {
+          {"step", "-", "time step number of the sample", ""},
+          {"time", "s", "simulated time", ""},
+          {"bin", "-", "the bin's index, from 0", ""},
+          {"diameter_min", "m", "the bin's lower edge (the first bin also holds smaller clusters)", ""},
+          {"diameter_max", "m", "its upper edge (the last bin also holds larger clusters)", ""},
+          {"clusters", "-", "clusters whose equivalent diameter (6 V / pi)^(1/3) falls in the bin", ""},
+          {"volume", "m^3", "their volume", ""},
+      }};
+  return t;
+}
+
+std::vector<std::vector<double>> SurfaceCensus::histogram_rows(const SurfaceSample& s) const {
+  std::vector<std::vector<double>> rows;
+  for (std::size_t k = 0; k + 1 < edges_.size(); ++k)
+    rows.push_back({static_cast<double>(s.step), s.time, static_cast<double>(k), edges_[k], edges_[k + 1],
+                    k < s.bin_clusters.size() ? s.bin_clusters[k] : 0.0, k < s.bin_volume.size() ? s.bin_volume[k] : 0.0});
+  return rows;
+}
+
+PowerFit SurfaceCensus::wear_fit() const {
+  std::vector<double> w, v;
+  for (const SurfaceSample& x : samples_) {
+    w.push_back(x.tangential_work);
+    v.push_back(x.wear_volume);
+  }
+  return fit_power_law(w, v);
+}
+
+std::string SurfaceCensus::report() const {
+  std::ostringstream os;
+  os.precision(3);
+  if (samples_.empty()) return "surfaces: no sample taken";
+  const SurfaceSample& l = samples_.back();
+  os << "surfaces: at step " << l.step << " (slide " << l.slide << " m): wear volume " << l.wear_volume
+     << " m^3 = third body " << l.third_volume << " m^3 (" << l.third_particles << " particles in " << l.clusters
+     << (l.clusters == 1 ? " cluster" : " clusters") << ") + transferred " << l.to_bottom_volume << " m^3 to the bottom body, "
+     << l.to_top_volume << " m^3 to the top body\n";
+  if (l.clusters > 0)
+    os << "surfaces: the largest cluster holds " << l.largest_particles << " particles, " << l.largest_volume
+       << " m^3 (equivalent diameter " << l.largest_diameter << " m; " << l.largest_from_bottom << " of it from the bottom body, "
+       << l.largest_from_top << " from the top body, " << l.largest_from_neither << " from neither)\n";
+  os << "surfaces: friction coefficient " << l.friction_coefficient << ", real contact area " << l.contact_area
+     << " m^2 over " << l.contact_pairs << " pairs, tangential work " << l.tangential_work << " J";
+  const PowerFit fit = wear_fit();
+  if (fit.made)
+    os << "; wear volume ~ W_t^" << fit.exponent << " (least squares in log-log over " << fit.points << " samples)";
+  else
+    os << "; too few samples with wear and work for a power law";
+  if (!l.classified)
+    os << "\nsurfaces: the states of the last sample are those of an earlier one: the driven groups slid "
+       << l.window_slide << " m over its window, less than min_slide (" << min_slide_ << " m)";
+  return os.str();
+}
+
+namespace {
+
+// The values of a sample in a checkpoint: its row, the work's carry-over, its histogram.
+constexpr std::size_t kRowValues = 28;
+constexpr std::size_t kExtraValues = 3;
+
+std::vector<double> sample_values(const SurfaceSample& s) {
+  std::vector<double> v = SurfaceCensus::row(s);
+  v.insert(v.end(), {s.top_shift, s.bottom_force, s.bottom_shift});
+  v.insert(v.end(), s.bin_clusters.begin(), s.bin_clusters.end());
+  v.insert(v.end(), s.bin_volume.begin(), s.bin_volume.end());
+  return v;
+}
+
+SurfaceSample sample_from(const double* v, std::size_t bins) {
+  SurfaceSample s;
+  s.step = static_cast<long>(v[0]);
+  s.time = v[1];
+  s.slide = v[2];
+  s.tangential_force = v[3];
+  s.normal_force = v[4];
+  s.friction_coefficient = v[5];
+  s.tangential_work = v[6];
+  s.contact_pairs = static_cast<long>(v[7]);
+  s.contact_area = v[8];
+  s.bottom_volume = v[9];
+  s.top_volume = v[10];
+  s.third_volume = v[11];
+  s.to_bottom_volume = v[12];
+  s.to_top_volume = v[13];
+  s.wear_volume = v[14];
+  s.bottom_particles = static_cast<long>(v[15]);
+  s.top_particles = static_cast<long>(v[16]);
+  s.third_particles = static_cast<long>(v[17]);
+  s.clusters = static_cast<long>(v[18]);
+  s.largest_volume = v[19];
+  s.largest_particles = static_cast<long>(v[20]);
+  s.largest_diameter = v[21];
+  s.largest_from_bottom = v[22];
+  s.largest_from_top = v[23];
+  s.largest_from_neither = v[24];
+  s.window_time = v[25];
+  s.window_slide = v[26];
+  s.classified = v[27] != 0;
+  s.top_shift = v[28];
+  s.bottom_force = v[29];
+  s.bottom_shift = v[30];
+  s.bin_clusters.assign(v + kRowValues + kExtraValues, v + kRowValues + kExtraValues + bins);
+  s.bin_volume.assign(v + kRowValues + kExtraValues + bins, v + kRowValues + kExtraValues + 2 * bins);
+  return s;
+}
+
+}  // namespace
+
+SurfaceCensusState SurfaceCensus::state() const {
+  SurfaceCensusState st;
+  std::vector<std::pair<std::int64_t, int>> states(state_.begin(), state_.end());
+  std::sort(states.begin(), states.end());
+  for (const auto& [id, value] : states) {
+    st.state_id.push_back(id);
+    st.state_value.push_back(value);
+  }
+  for (const auto& [t, positions] : history_) {
+    std::vector<std::pair<std::int64_t, Vec3>> by_id(positions.begin(), positions.end());
+    std::sort(by_id.begin(), by_id.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    st.history_time.push_back(t);
+    st.history_count.push_back(static_cast<std::int64_t>(by_id.size()));
+    for (const auto& [id, x] : by_id) {
+      st.history_id.push_back(id);
+      st.history_position.insert(st.history_position.end(), {x.x, x.y, x.z});
+    }
+  }
+  st.bin_edges = edges_;
+  for (const SurfaceSample& s : samples_) {
+    const std::vector<double> v = sample_values(s);
+    st.samples.insert(st.samples.end(), v.begin(), v.end());
+  }
+  st.sample_count = samples_.size();
+  return st;
+}
+
+void SurfaceCensus::restore(const SurfaceCensusState& st, const std::string& path) {
+  auto check = [&](bool ok, const std::string& what) {
+    if (!ok) throw input_error("restart", path, "is not a sound checkpoint: surfaces/" + what);
+  };
+  check(st.state_id.size() == st.state_value.size(), "state_id and state_value differ in length");
+  for (std::int64_t v : st.state_value) check(v >= kBottom && v <= kThird, "state_value holds a value not 0, 1 or 2");
+  check(st.history_time.size() == st.history_count.size(), "history_time and history_count differ in length");
+  std::int64_t ids = 0;
+  for (std::int64_t c : st.history_count) {
+    check(c >= 0, "history_count holds a negative count");
+    ids += c;
+  }
+  check(st.history_id.size() == static_cast<std::size_t>(ids) && st.history_position.size() == 3 * st.history_id.size(),
+        "history_id / history_position do not hold history_count's particles");
+  bool edges_ok = st.bin_edges.size() >= 2;
+  for (std::size_t k = 1; k < st.bin_edges.size() && edges_ok; ++k) edges_ok = st.bin_edges[k] > st.bin_edges[k - 1];
+  check(edges_ok, "bin_edges are not at least two increasing values");
+  const std::size_t bins = st.bin_edges.size() - 1;
+  const std::size_t per_sample = kRowValues + kExtraValues + 2 * bins;
+  check(st.samples.size() == per_sample * st.sample_count,
+        "samples do not hold " + std::to_string(per_sample) + " values per sample");
+  std::unordered_map<std::int64_t, int> states;
+  for (std::size_t k = 0; k < st.state_id.size(); ++k) states[st.state_id[k]] = static_cast<int>(st.state_value[k]);
+  std::deque<std::pair<double, std::unordered_map<std::int64_t, Vec3>>> history;
+  std::size_t at = 0;
+  for (std::size_t s = 0; s < st.history_time.size(); ++s) {
+    std::unordered_map<std::int64_t, Vec3> positions;
+    positions.reserve(static_cast<std::size_t>(st.history_count[s]));
+    for (std::int64_t k = 0; k < st.history_count[s]; ++k, ++at)
+      positions.emplace(st.history_id[at], Vec3{st.history_position[3 * at], st.history_position[3 * at + 1],
+                                                st.history_position[3 * at + 2]});
+    history.emplace_back(st.history_time[s], std::move(positions));
+  }
+  std::vector<SurfaceSample> samples;
+  for (std::size_t k = 0; k < st.sample_count; ++k) samples.push_back(sample_from(&st.samples[per_sample * k], bins));
+  // Particles the checkpoint does not name keep the state they start with.
+  for (const auto& [id, value] : states) state_[id] = value;
+  edges_ = st.bin_edges;
+  history_ = std::move(history);
+  samples_ = std::move(samples);
+}
+
+void write_surface_state(h5::Location& at, const SurfaceCensusState& st) {
+  h5::Group g = at.create_group("surfaces");
+  g.write("state_id", st.state_id);
+  g.write("state_value", st.state_value);
+  g.write("history_time", st.history_time);
+  g.write("history_count", st.history_count);
+  g.write("history_id", st.history_id);
+  g.write("history_position", st.history_position);
+  g.write("bin_edges", st.bin_edges);
+  g.write("samples", st.samples);
+  g.write_scalar<std::int64_t>("sample_count", static_cast<std::int64_t>(st.sample_count));
+}
+
+std::optional<SurfaceCensusState> read_surface_state(const h5::Location& at) {
+  if (!at.has("surfaces")) return std::nullopt;
+  const h5::Group g = at.open_group("surfaces");
+  SurfaceCensusState st;
+  st.state_id = g.read<std::int64_t>("state_id").values;
+  st.state_value = g.read<std::int64_t>("state_value").values;
+  st.history_time = g.read<double>("history_time").values;
+  st.history_count = g.read<std::int64_t>("history_count").values;
+  st.history_id = g.read<std::int64_t>("history_id").values;
+  st.history_position = g.read<double>("history_position").values;
+  st.bin_edges = g.read<double>("bin_edges").values;
+  st.samples = g.read<double>("samples").values;
+  const auto count = g.read_scalar<std::int64_t>("sample_count");
+  if (count < 0) throw std::runtime_error("surfaces/sample_count is negative");
+  st.sample_count = static_cast<std::size_t>(count);
+  return st;
+}
+
+std::string draw_surface_pictures(const std::string& dir, const SurfaceCensus& census, const PictureUnits& u) {
+  namespace fs = std::filesystem;
+  const fs::path d(dir);
+  const bool si = u.length_name == "nm";
+  const double volume = u.length * u.length * u.length, area = u.length * u.length, energy = u.length * u.force;
+  const std::string length_name = u.length_name, volume_name = si ? "nm^3" : "length^3",
+                    area_name = si ? "nm^2" : "length^2", energy_name = si ? "fJ" : "energy";
+  const PowerFit fit = census.wear_fit();
+  std::ofstream script(d / "surfaces.gp");
+  script << "# debris_dem's wear census pictures: run `gnuplot surfaces.gp` in this directory.\n"
+         << "set terminal pngcairo size 1200,900 font ',11'\n"
+         << "set output 'surfaces.png'\n"
+         << "set datafile separator ','\n"
+         << "set multiplot layout 2,2\n"
+         << "set key bottom right\n"
+         << "set title 'wear volume against the slide' noenhanced\n"
+         << "set xlabel 'sliding distance (" << length_name << ")'\n"
+         << "set ylabel 'volume (" << volume_name << ")' noenhanced\n"
+         << "plot 'surfaces.csv' using (column('slide') * " << u.length << "):(column('wear_volume') * " << volume
+         << ") with lines lw 2 title 'wear volume', '' using (column('slide') * " << u.length
+         << "):(column('third_volume') * " << volume << ") with lines title 'third body', '' using (column('slide') * "
+         << u.length << "):((column('transferred_to_bottom') + column('transferred_to_top')) * " << volume
+         << ") with lines title 'transferred'\n"
+         << "set logscale xy\n"
+         << "set xlabel 'tangential work (" << energy_name << ")' noenhanced\n"
+         << "# the samples with wear and work (a log scale has no place for 0)\n"
+         << "both(w, v) = w > 0 && v > 0\n";
+  if (fit.made) {
+    // V = c W^b in the pictures' units: V' = V volume and W' = W energy, so V' = c volume energy^-b W'^b.
+    std::ostringstream prefactor, power, exponent;
+    prefactor.precision(17);
+    power.precision(17);
+    exponent.precision(4);
+    prefactor << fit.prefactor * volume * std::pow(energy, -fit.exponent);
+    power << fit.exponent;
+    exponent << fit.exponent;
+    script << "set title 'wear volume against tangential work: exponent " << exponent.str() << " (" << fit.points
+           << " samples)' noenhanced\n"
+           << "fit_line(w) = " << prefactor.str() << " * w ** " << power.str() << "\n"
+           << "plot 'surfaces.csv' using (both(column('tangential_work'), column('wear_volume')) ? "
+           << "column('tangential_work') * " << energy << " : 1/0):(column('wear_volume') * " << volume
+           << ") with points pt 7 ps 0.6 title 'samples', fit_line(x) with lines lw 2 title 'least-squares power law' "
+           << "noenhanced\n";
+  } else {
+    script << "set title 'wear volume against tangential work: too few samples for a fit' noenhanced\n"
+           << "plot 'surfaces.csv' using (both(column('tangential_work'), column('wear_volume')) ? "
+           << "column('tangential_work') * " << energy << " : 1/0):(column('wear_volume') * " << volume
+           << ") with points pt 7 ps 0.6 title 'samples'\n";
+  }
+  script << "unset logscale\n"
+         << "set key off\n"
+         << "set xlabel 'sliding distance (" << length_name << ")'\n"
+         << "# once sliding (before it, the normal force may be near 0 and the ratio meaningless)\n"
+         << "set title 'friction coefficient (top driven group: |tangential| / |normal| reaction)' noenhanced\n"
+         << "set ylabel 'friction coefficient'\n"
+         << "plot 'surfaces.csv' using (column('slide') > 0 ? column('slide') * " << u.length
+         << " : 1/0):(column('friction_coefficient')) with lines lw 2\n"
+         << "set title 'real contact area' noenhanced\n"
+         << "set ylabel 'area (" << area_name << ")' noenhanced\n"
+         << "plot 'surfaces.csv' using (column('slide') * " << u.length << "):(column('contact_area') * " << area
+         << ") with lines lw 2\n"
+         << "unset multiplot\n";
+  script.close();
+  if (!script) return "pictures: cannot write " + (d / "surfaces.gp").string();
+  const GnuplotRun run = run_gnuplot(dir, "surfaces.gp", "surfaces.log");
+  if (!run.found)
+    return "pictures skipped: gnuplot not found (Debian: apt install gnuplot-nox); run `gnuplot surfaces.gp` in " +
+           dir + " later";
+  if (run.status != 0) return "pictures failed: gnuplot could not draw surfaces.png (see " + dir + "/surfaces.log)";
+  return "pictures: " + (d / "surfaces.png").string();
+}
+
+}  // namespace debris

@@ -1,0 +1,190 @@
+#pragma once
+// The wear census of a sliding interface (the `surfaces:` section of a debris_dem input): two bodies, each
+// with a driven group, slide on each other; every `every` steps the census says where every particle moves,
+// what has worn off, and what the interface carries. Unlike the junction's verdict (wear_analysis.hpp), it
+// judges no mechanism: it counts.
+//
+// Which body a particle moves with (its state). Over the last `window` of the run (before the window has
+// filled: since the first sample, the oldest position kept), each particle's displacement along the sliding
+// axis, less the bottom driven group's, over the top driven group's less the bottom's, is its fraction f:
+// f < moving_min moves with the bottom body, f > moving_max with the top body, and in between with neither,
+// the third body. f needs the driven groups to have slid relative to each other: while they slid less than
+// `min_slide` over that interval (a settling stage, the first sample) every particle keeps its last state.
+// A particle starts in the body whose labels (or group) hold it, the driven group's members in their
+// body's; a particle of neither body starts in the third body until its motion puts it elsewhere.
+// Transferred material started in one body and now moves with the other.
+//
+// Which third-body particles form one wear particle: the graph of the pairs in interaction range now (the
+// neighbour list's pairs closer than r_i + r_j + delta_f, eq 10, as the junction analysis decides "in
+// range"), restricted to third-body particles; each connected component is a cluster, with its volume
+// (4/3 pi r^3 summed), its equivalent diameter (6 V / pi)^(1/3), and a size histogram of them per sample.
+//
+// What the interface carries: the top driven group's reaction along the slide and the normal (their ratio,
+// the friction coefficient), the tangential work the drives did along the slide so far, and the real contact
+// area: the pairs in range joining a particle moving with the bottom body to one moving with the top body,
+// each with its contact cross-section A_N of eqs 14-15.
+//
+// Every sum runs over the particles (or pairs) in id order, so the rows are the same bits whatever the
+// storage order (thread count, a restart's re-sort). The census's state (each particle's state, the
+// window's positions, the bins, every sample so far) goes into every checkpoint (state() / restore()), so a
+// chunked run writes the files of the run in one piece.
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "core/io/key_reference.hpp"
+#include "core/vec3.hpp"
+
+namespace debris {
+
+class DemSimulation;
+class InputNode;
+struct PictureUnits;
+namespace h5 {
+class Location;
+}
+
+/// One body of the census: its particles at the start, given by `labels` (one or more names of `labels:`)
+/// or by `group` (one of the two), and the group whose motion is the body's (`driven`).
+struct SurfaceBodySettings {
+  std::vector<std::string> labels;
+  std::string group;
+  std::string driven;
+};
+
+struct SurfaceSettings {
+  long every = 0;                    // steps between samples; 0 = no census
+  SurfaceBodySettings bottom, top;   // f = 0 and f = 1
+  int sliding_axis = 0, normal_axis = 1;
+  double window = 0;                 // s: displacements over this last stretch give f
+  double moving_min = 0.1, moving_max = 0.9;  // f range of the third body
+  std::vector<double> histogram_bins;  // m: equivalent-diameter bin edges, increasing; empty: the default
+  double min_slide = -1;             // m: the least relative slide for f to classify; < 0: the smallest radius
+};
+
+/// Reads the `surfaces:` section of a debris_dem input (InputError naming the key for anything bad).
+SurfaceSettings read_surface_settings(const InputNode& node);
+/// Describes the keys read_surface_settings() reads, as the section `surfaces` of `ref`.
+void document_surface_settings(KeyReference& ref);
+/// InputError naming surfaces.window when it is longer than the run (`run_time` s: the stages' total, or
+/// run.steps without stages, times the time step).
+void check_surface_window(const SurfaceSettings& settings, double run_time);
+
+enum class SurfaceState : int { bottom = 0, top = 1, third = 2 };
+
+/// One sample: the surfaces.csv row, and the histogram's rows.
+struct SurfaceSample {
+  long step = 0;
+  double time = 0;
+  double slide = 0;             // the driven groups' relative displacement along the slide since the start
+  double tangential_force = 0;  // the top driven group's reaction along the slide
+  double normal_force = 0;      // ... along the normal
+  double friction_coefficient = 0;
+  double tangential_work = 0;   // J, accumulated over the samples (tangential_work_increment)
+  long contact_pairs = 0;
+  double contact_area = 0;
+  double bottom_volume = 0, top_volume = 0, third_volume = 0;
+  double to_bottom_volume = 0, to_top_volume = 0;  // transferred: started in the top (bottom) body
+  double wear_volume = 0;       // third body + transferred both ways
+  long bottom_particles = 0, top_particles = 0, third_particles = 0;
+  long clusters = 0;
+  double largest_volume = 0;
+  long largest_particles = 0;
+  double largest_diameter = 0;
+  double largest_from_bottom = 0, largest_from_top = 0, largest_from_neither = 0;  // shares of its volume
+  double window_time = 0;       // the time the displacements span (0: no earlier position yet)
+  double window_slide = 0;      // the driven groups' relative slide over it
+  bool classified = false;      // f classified the particles (else each kept its last state)
+  // Kept for the next sample's work (not in the row): the driven groups' reactions and displacements along
+  // the slide.
+  double top_shift = 0, bottom_force = 0, bottom_shift = 0;
+  // The histogram: per bin, the third-body clusters and their volume.
+  std::vector<double> bin_clusters, bin_volume;
+};
+
+/// The work the drives did along the slide between two samples: each driven group's drive holds it against
+/// the reaction R the particles exert on it, so it does -R . dx; the trapezoid over the two samples' reactions
+/// (W_t = sum of -R_s dx_s). The one place this is computed: an exact per-step figure from the energy
+/// accounting can replace it.
+double tangential_work_increment(double top_force_before, double top_force_after, double top_shift_before,
+                                 double top_shift_after, double bottom_force_before, double bottom_force_after,
+                                 double bottom_shift_before, double bottom_shift_after);
+
+/// A power law V = c W^exponent fitted by least squares in log-log (points with V > 0 and W > 0).
+struct PowerFit {
+  bool made = false;  // at least two points with different W
+  double exponent = 0, prefactor = 0;
+  long points = 0;
+};
+PowerFit fit_power_law(const std::vector<double>& w, const std::vector<double>& v);
+
+/// What the census carries from sample to sample, as plain arrays for a checkpoint (in id order).
+struct SurfaceCensusState {
+  std::vector<std::int64_t> state_id, state_value;           // each particle's state (SurfaceState)
+  std::vector<double> history_time;                           // the window's snapshots, oldest first
+  std::vector<std::int64_t> history_count, history_id;        // particles per snapshot; their ids
+  std::vector<double> history_position;                       // 3 per id
+  std::vector<double> bin_edges;
+  std::vector<double> samples;                                // sample_values() per sample
+  std::size_t sample_count = 0;
+};
+
+class SurfaceCensus {
+ public:
+  /// `settings` with their names resolved on `sim` (InputError naming the key for an unknown label or
+  /// group, the same body twice, a body without particles).
+  SurfaceCensus(const SurfaceSettings& settings, const DemSimulation& sim);
+
+  /// Samples the current state (call every settings.every steps).
+  const SurfaceSample& sample(const DemSimulation& sim);
+  const std::vector<SurfaceSample>& samples() const { return samples_; }
+  const std::vector<double>& bin_edges() const { return edges_; }
+  const SurfaceSettings& settings() const { return s_; }
+  /// The current state of the particle with this id (its starting one before the first sample).
+  SurfaceState state_of(std::int64_t id) const;
+
+  /// surfaces.csv's columns with their units and meanings; the header is its names.
+  static const ColumnTable& table();
+  static std::vector<std::string> columns() { return table().header(); }
+  static std::vector<double> row(const SurfaceSample& s);
+  /// surfaces_histogram.csv's: one row per sample and bin.
+  static const ColumnTable& histogram_table();
+  static std::vector<std::string> histogram_columns() { return histogram_table().header(); }
+  std::vector<std::vector<double>> histogram_rows(const SurfaceSample& s) const;
+
+  /// The state to continue from (checkpoints), and back (InputError naming the checkpoint `path` for arrays
+  /// that do not fit together).
+  SurfaceCensusState state() const;
+  void restore(const SurfaceCensusState& state, const std::string& path);
+
+  /// Wear volume against tangential work over the samples so far.
+  PowerFit wear_fit() const;
+  /// A paragraph on the last sample with its numbers ("surfaces: ...").
+  std::string report() const;
+
+ private:
+  SurfaceSettings s_;
+  int bottom_driven_ = -1, top_driven_ = -1;
+  double min_slide_ = 0;
+  std::vector<double> edges_;
+  std::unordered_map<std::int64_t, int> origin_;  // id -> the body it started in (SurfaceState; third: neither)
+  std::unordered_map<std::int64_t, int> state_;   // id -> its state now
+  // Unwrapped positions by id at the samples of the last window (the oldest is the reference).
+  std::deque<std::pair<double, std::unordered_map<std::int64_t, Vec3>>> history_;
+  std::vector<SurfaceSample> samples_;
+};
+
+/// The state as the group `surfaces` under `at` (a checkpoint's `run` group), and back (nullopt: none there).
+void write_surface_state(h5::Location& at, const SurfaceCensusState& state);
+std::optional<SurfaceCensusState> read_surface_state(const h5::Location& at);
+
+/// Writes surfaces.gp in `dir` (surfaces.png from surfaces.csv: wear volume against the slide and, log-log
+/// with the fitted exponent, against the tangential work; friction coefficient and contact area against the
+/// slide) and runs gnuplot there. Returns the line the run prints: what was drawn, or why not.
+std::string draw_surface_pictures(const std::string& dir, const SurfaceCensus& census, const PictureUnits& units);
+
+}  // namespace debris
