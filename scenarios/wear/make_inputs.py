@@ -165,6 +165,15 @@ wear:
   rolling_number: [0.5, 1.5]   # 2 R omega / v (rolling without slip: 1)
   persistence: 2.5 ns          # diagnostics only: a pair in range this long counts as a bond
 
+surfaces:                      # the wear census of the interface (surfaces.csv, surfaces_histogram.csv)
+  every: {steps(SAMPLE_NS)}                   # steps: {SAMPLE_NS} ns
+  bottom: {{label: [bottom, bottom_wall], driven: bottom_wall}}
+  top: {{label: [top, junction, top_wall], driven: top_wall}}  # the junction starts with the top body
+  sliding_axis: x
+  normal_axis: y
+  window: 2 ns                 # f over the last 2 ns, as the wear analysis's
+  moving: [0.1, 0.9]           # 0.1 < f < 0.9: moving with neither body (the third body)
+
 output:
   directory: out/wear/{name if folder == HERE else "study/" + name}
   thermo_every: {steps(SAMPLE_NS)}
