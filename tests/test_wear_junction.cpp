@@ -110,12 +110,25 @@ TEST(WearJunctionRolling, D20AtD0OneAndAHalfNmIsARollingWearParticleAsInThePaper
   EXPECT_NEAR(at("mean_centre_speed"), 0.51478, 1e-3);
   EXPECT_NEAR(at("mean_residual"), 0.18278, 1e-3);
   EXPECT_EQ(static_cast<long>(at("third_particles")), 212);
+  // The census (surfaces.csv) finds the same body by its own rule, the largest third-body cluster by volume:
+  // the rolling particle, the wear analysis's candidate particle for particle, nearly all of the third body,
+  // torn from the junction (labelled with the top body); it keeps the bodies apart, so no pair joins them.
+  const std::string census = debris::test::slurp(out / "run" / "surfaces.csv");
+  const std::vector<double> end = last_row(census);
+  auto census_at = [&](const char* name) { return end[column(census, name)]; };
+  EXPECT_EQ(census_at("step"), at("step"));
+  EXPECT_EQ(static_cast<long>(census_at("largest_cluster_particles")), static_cast<long>(at("third_particles")));
+  EXPECT_GT(census_at("largest_cluster_volume"), 0.9 * census_at("third_volume"));
+  EXPECT_GT(census_at("largest_from_top"), 0.5);
+  EXPECT_EQ(census_at("contact_pairs"), 0.0);
 }
 
 // A junction run in three chunks (restarts at step 20,000 and at 45,000, inside the last window and the
 // verdict's span, and one more from the checkpoint at 45,000 after a kill while the final checkpoint was
 // being written) writes the wear.csv, thermo and verdict of the run in one piece byte for byte: the
-// analysis's window, bond record and samples are in the checkpoint. The slide is 4 ns here (52,500 steps).
+// analysis's window, bond record and samples are in the checkpoint. So do the census's surfaces.csv and
+// surfaces_histogram.csv (its states, window, bins and samples are there too). The slide is 4 ns here
+// (52,500 steps).
 TEST(WearJunctionRestart, ChunkedRunEqualsTheRunInOnePiece) {
   const fs::path d = debris::test::fresh_directory("debris_wear_chunks");
   using debris::test::replace;
@@ -138,7 +151,8 @@ TEST(WearJunctionRestart, ChunkedRunEqualsTheRunInOnePiece) {
   const fs::path at_45000 = d / "checkpoint_45000.h5";
   fs::copy_file(checkpoint, at_45000);
   dem("--restart " + checkpoint + " -i " + whole + " -o " + chunks.string());
-  EXPECT_EQ(debris::test::slurp(one / "wear.csv"), debris::test::slurp(chunks / "wear.csv"));
+  for (const char* file : {"wear.csv", "surfaces.csv", "surfaces_histogram.csv"})
+    EXPECT_EQ(debris::test::slurp(one / file), debris::test::slurp(chunks / file)) << file;
   // The kill: the final checkpoint never renamed into place (the one at 45,000 is still there), a cut-off
   // temporary file beside it, and rows past 45,000 already written.
   const std::string final_checkpoint = debris::test::slurp(checkpoint);
@@ -149,6 +163,9 @@ TEST(WearJunctionRestart, ChunkedRunEqualsTheRunInOnePiece) {
   const std::string wear = debris::test::slurp(one / "wear.csv");
   EXPECT_EQ(wear, debris::test::slurp(chunks / "wear.csv"));
   EXPECT_EQ(debris::test::slurp(one / "thermo.csv"), debris::test::slurp(chunks / "thermo.csv"));
+  for (const char* file : {"surfaces.csv", "surfaces_histogram.csv"})
+    EXPECT_EQ(debris::test::slurp(one / file), debris::test::slurp(chunks / file)) << file;
+  EXPECT_GT(debris::test::slurp(one / "surfaces_histogram.csv").size(), 10000u);
   auto verdict = [](const std::string& log) { return log.substr(log.find("wear: verdict"), log.find("\nwear: bonds") -
                                                                                             log.find("wear: verdict")); };
   EXPECT_EQ(verdict(whole_log), verdict(last_log));
