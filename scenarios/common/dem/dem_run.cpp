@@ -374,21 +374,23 @@ class DemRunModel final : public RunModel {
     namespace fs = std::filesystem;
     const std::string path = (fs::path(dir) / "surfaces.csv").string();
     const std::string histogram = (fs::path(dir) / "surfaces_histogram.csv").string();
-    histogram_csv_.emplace(histogram, SurfaceCensus::histogram_columns());
     if (suffix.empty()) {
       surfaces_csv_.emplace(path, SurfaceCensus::columns());
+      histogram_csv_.emplace(histogram, SurfaceCensus::histogram_columns());
       sample_surfaces();
       return;
     }
     ThermoResume resume{sim_.step_count(), cfg_.surfaces->every, {}};
     if (surfaces_restored_)
       for (const SurfaceSample& s : surfaces_->samples())
-        if (s.step <= sim_.step_count()) {
-          resume.known.emplace(s.step, SurfaceCensus::row(s));
-          for (const std::vector<double>& row : surfaces_->histogram_rows(s)) histogram_csv_->write_row(row);
-        }
+        if (s.step <= sim_.step_count()) resume.known.emplace(s.step, SurfaceCensus::row(s));
     surfaces_csv_.emplace(path, SurfaceCensus::columns(), resume);
     if (!surfaces_csv_->repair_note().empty()) std::cout << surfaces_csv_->repair_note() << "\n";
+    histogram_csv_.emplace(histogram, SurfaceCensus::histogram_columns());
+    if (surfaces_restored_)
+      for (const SurfaceSample& s : surfaces_->samples())
+        if (s.step <= sim_.step_count())
+          for (const std::vector<double>& row : surfaces_->histogram_rows(s)) histogram_csv_->write_row(row);
     if (!surfaces_restored_) {
       std::cout << "surfaces: the checkpoint holds no census state; it starts afresh at the restart (its window, "
                    "states and work count from here; surfaces_histogram.csv starts afresh)\n";
