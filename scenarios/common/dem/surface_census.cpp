@@ -589,7 +589,13 @@ std::string SurfaceCensus::report() const {
     os << "surfaces: the largest cluster holds " << l.largest_particles << " particles, " << l.largest_volume
        << " m^3 (equivalent diameter " << l.largest_diameter << " m; " << l.largest_from_bottom << " of it from the bottom body, "
        << l.largest_from_top << " from the top body, " << l.largest_from_neither << " from neither)\n";
-  os << "surfaces: friction coefficient " << l.friction_coefficient << ", real contact area " << l.contact_area
+  double mu = 0;
+  long sliding = 0;
+  for (const SurfaceSample& x : samples_)
+    if (x.slide != 0) mu += x.friction_coefficient, ++sliding;
+  os << "surfaces: friction coefficient " << l.friction_coefficient;
+  if (sliding > 0) os << " (mean over the " << sliding << " samples since the slide began " << mu / sliding << ")";
+  os << ", real contact area " << l.contact_area
      << " m^2 over " << l.contact_pairs << " pairs, tangential work " << l.tangential_work << " J";
   const PowerFit fit = wear_fit();
   if (fit.made)
