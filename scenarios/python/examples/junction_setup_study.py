@@ -45,6 +45,8 @@ def case_input(seed, load_mpa, settle_ns, slide_ns, out):
         values["stages"] = [slide]  # no settling: the slide starts from the carved state
         slide["global_damping"] = 0
     values["output"].update(directory=str(out), pictures=False, dump_every=0)
+    if "surfaces" in values:  # the census's window must fit in the run: a quick look slides less than 2 ns
+        values["surfaces"]["window"] = f"{min(2.0, slide_ns)} ns"
     return values
 
 
