@@ -340,7 +340,8 @@ TEST(SurfaceCensus, TangentialWorkAndPowerLawFit) {
 
 std::string junction_input(const fs::path& dir, const std::string& slide, const std::string& name) {
   std::string text = test::slurp(fs::path(DEBRIS_SOURCE_DIR) / "scenarios" / "wear" / "junction_D20_d0_6nm.yaml");
-  text = test::replace(text, "lammps_data: data/", "lammps_data: " + std::string(DEBRIS_SOURCE_DIR) + "/scenarios/wear/data/");
+  text = test::replace(text, "lammps_data: data/",
+                       "lammps_data: " + std::string(DEBRIS_SOURCE_DIR) + "/scenarios/wear/data/");
   text = test::replace(text, "duration: 10.0 ns", "duration: " + slide);
   return test::write_text_file(dir, name, text);
 }
@@ -425,7 +426,8 @@ TEST(SurfaceCensus, BadInputIsANamedErrorAndWritesNothing) {
        "  sliding_axis: x\n  normal_axis: x\n  window: 2 ns                 # f", "surfaces.normal_axis", "x"},
       {"window: 2 ns                 # f over", "window: 12 ns                 # f over", "surfaces.window", "1.2e-08"},
       {"every: 625                   # steps: 0.05 ns\n  bottom: {", "every: 0\n  bottom: {", "surfaces.every", "0"},
-      {"every: 625                   # steps: 0.05 ns\n  bottom: {", "every: -625\n  bottom: {", "surfaces.every", "-625"},
+      {"every: 625                   # steps: 0.05 ns\n  bottom: {", "every: -625\n  bottom: {", "surfaces.every",
+       "-625"},
   };
   for (const Bad& b : cases) {
     const std::string input = test::write_text_file(d, "bad.yaml", test::replace(good, b.from, b.to));

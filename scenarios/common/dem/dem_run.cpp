@@ -478,10 +478,10 @@ RunPlan prepare_dem_run(const RunOptions& opt) {
         throw input_error("stages.groups.name", gc.motion.name, "is not a group of the checkpoint's system");
   }
   RunPlan plan = make_run_plan(cfg, sim.dt(), restored.has_value(), threads, in.text);
-  if (cfg.surfaces)  // the run's length: the stages' total, or run.steps without stages
-    check_surface_window(*cfg.surfaces,
-                         static_cast<double>(cfg.stages.empty() ? cfg.steps : resolve_stages(cfg.stages, sim.dt()).end) *
-                             sim.dt());
+  if (cfg.surfaces) {  // the run's length: the stages' total, or run.steps without stages
+    const long length = cfg.stages.empty() ? cfg.steps : resolve_stages(cfg.stages, sim.dt()).end;
+    check_surface_window(*cfg.surfaces, static_cast<double>(length) * sim.dt());
+  }
   auto model = std::make_unique<DemRunModel>(std::move(sim), std::move(cfg), std::move(run_state), opt.restart);
   std::cout << model->describe() << "\n";
   plan.model = std::move(model);

@@ -4,10 +4,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <tuple>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 #include "core/error.hpp"
 #include "core/io/hdf5_file.hpp"
@@ -497,7 +497,10 @@ const ColumnTable& SurfaceCensus::table() {
       {
           {"step", "-", "time step number", ""},
           {"time", "s", "simulated time", ""},
-          {"slide", "m", "sliding distance: the top driven group's displacement along the slide less the bottom one's, since the start", ""},
+          {"slide", "m",
+           "sliding distance: the top driven group's displacement along the slide less the bottom one's, since the "
+           "start",
+           ""},
           {"tangential_force", "N", "the top driven group's reaction along the sliding axis", ""},
           {"normal_force", "N", "the top driven group's reaction along the normal axis", ""},
           {"friction_coefficient", "-", "|tangential_force| / |normal_force| (0 while the normal force is 0)", ""},
@@ -505,8 +508,10 @@ const ColumnTable& SurfaceCensus::table() {
            "work the drives did along the slide since the first sample: minus each driven group's reaction times "
            "its displacement, trapezoid between samples",
            ""},
-          {"contact_pairs", "-", "pairs in interaction range joining a particle of the bottom body to one of the top body (by state)", ""},
-          {"contact_area", "m^2", "the real contact area: those pairs' contact cross-sections A_N summed (paper A eqs 14-15)", ""},
+          {"contact_pairs", "-",
+           "pairs in interaction range joining a particle of the bottom body to one of the top body (by state)", ""},
+          {"contact_area", "m^2",
+           "the real contact area: those pairs' contact cross-sections A_N summed (paper A eqs 14-15)", ""},
           {"bottom_volume", "m^3", "volume of the particles moving with the bottom body (f < moving min)", ""},
           {"top_volume", "m^3", "volume of the particles moving with the top body (f > moving max)", ""},
           {"third_volume", "m^3", "volume of the particles moving with neither body: the third body", ""},
@@ -563,7 +568,8 @@ std::vector<std::vector<double>> SurfaceCensus::histogram_rows(const SurfaceSamp
   std::vector<std::vector<double>> rows;
   for (std::size_t k = 0; k + 1 < edges_.size(); ++k)
     rows.push_back({static_cast<double>(s.step), s.time, static_cast<double>(k), edges_[k], edges_[k + 1],
-                    k < s.bin_clusters.size() ? s.bin_clusters[k] : 0.0, k < s.bin_volume.size() ? s.bin_volume[k] : 0.0});
+                    k < s.bin_clusters.size() ? s.bin_clusters[k] : 0.0,
+                    k < s.bin_volume.size() ? s.bin_volume[k] : 0.0});
   return rows;
 }
 
@@ -583,12 +589,13 @@ std::string SurfaceCensus::report() const {
   const SurfaceSample& l = samples_.back();
   os << "surfaces: at step " << l.step << " (slide " << l.slide << " m): wear volume " << l.wear_volume
      << " m^3 = third body " << l.third_volume << " m^3 (" << l.third_particles << " particles in " << l.clusters
-     << (l.clusters == 1 ? " cluster" : " clusters") << ") + transferred " << l.to_bottom_volume << " m^3 to the bottom body, "
-     << l.to_top_volume << " m^3 to the top body\n";
+     << (l.clusters == 1 ? " cluster" : " clusters") << ") + transferred " << l.to_bottom_volume
+     << " m^3 to the bottom body, " << l.to_top_volume << " m^3 to the top body\n";
   if (l.clusters > 0)
     os << "surfaces: the largest cluster holds " << l.largest_particles << " particles, " << l.largest_volume
-       << " m^3 (equivalent diameter " << l.largest_diameter << " m; " << l.largest_from_bottom << " of it from the bottom body, "
-       << l.largest_from_top << " from the top body, " << l.largest_from_neither << " from neither)\n";
+       << " m^3 (equivalent diameter " << l.largest_diameter << " m; " << l.largest_from_bottom
+       << " of it from the bottom body, " << l.largest_from_top << " from the top body, " << l.largest_from_neither
+       << " from neither)\n";
   double mu = 0;
   long sliding = 0;
   for (const SurfaceSample& x : samples_)

@@ -57,13 +57,13 @@ struct SurfaceBodySettings {
 };
 
 struct SurfaceSettings {
-  long every = 0;                    // steps between samples; 0 = no census
-  SurfaceBodySettings bottom, top;   // f = 0 and f = 1
+  long every = 0;                   // steps between samples; 0 = no census
+  SurfaceBodySettings bottom, top;  // f = 0 and f = 1
   int sliding_axis = 0, normal_axis = 1;
-  double window = 0;                 // s: displacements over this last stretch give f
+  double window = 0;                          // s: displacements over this last stretch give f
   double moving_min = 0.1, moving_max = 0.9;  // f range of the third body
-  std::vector<double> histogram_bins;  // m: equivalent-diameter bin edges, increasing; empty: the default
-  double min_slide = -1;             // m: the least relative slide for f to classify; < 0: the smallest radius
+  std::vector<double> histogram_bins;         // m: equivalent-diameter bin edges, increasing; empty: the default
+  double min_slide = -1;                      // m: the least relative slide for f to classify; < 0: the smallest radius
 };
 
 /// Reads the `surfaces:` section of a debris_dem input (InputError naming the key for anything bad).
@@ -84,21 +84,21 @@ struct SurfaceSample {
   double tangential_force = 0;  // the top driven group's reaction along the slide
   double normal_force = 0;      // ... along the normal
   double friction_coefficient = 0;
-  double tangential_work = 0;   // J, accumulated over the samples (tangential_work_increment)
+  double tangential_work = 0;  // J, accumulated over the samples (tangential_work_increment)
   long contact_pairs = 0;
   double contact_area = 0;
   double bottom_volume = 0, top_volume = 0, third_volume = 0;
   double to_bottom_volume = 0, to_top_volume = 0;  // transferred: started in the top (bottom) body
-  double wear_volume = 0;       // third body + transferred both ways
+  double wear_volume = 0;                          // third body + transferred both ways
   long bottom_particles = 0, top_particles = 0, third_particles = 0;
   long clusters = 0;
   double largest_volume = 0;
   long largest_particles = 0;
   double largest_diameter = 0;
   double largest_from_bottom = 0, largest_from_top = 0, largest_from_neither = 0;  // shares of its volume
-  double window_time = 0;       // the time the displacements span (0: no earlier position yet)
-  double window_slide = 0;      // the driven groups' relative slide over it
-  bool classified = false;      // f classified the particles (else each kept its last state)
+  double window_time = 0;   // the time the displacements span (0: no earlier position yet)
+  double window_slide = 0;  // the driven groups' relative slide over it
+  bool classified = false;  // f classified the particles (else each kept its last state)
   // Kept for the next sample's work (not in the row): the driven groups' reactions and displacements along
   // the slide.
   double top_shift = 0, bottom_force = 0, bottom_shift = 0;
@@ -124,12 +124,12 @@ PowerFit fit_power_law(const std::vector<double>& w, const std::vector<double>& 
 
 /// What the census carries from sample to sample, as plain arrays for a checkpoint (in id order).
 struct SurfaceCensusState {
-  std::vector<std::int64_t> state_id, state_value;           // each particle's state (SurfaceState)
-  std::vector<double> history_time;                           // the window's snapshots, oldest first
-  std::vector<std::int64_t> history_count, history_id;        // particles per snapshot; their ids
-  std::vector<double> history_position;                       // 3 per id
+  std::vector<std::int64_t> state_id, state_value;      // each particle's state (SurfaceState)
+  std::vector<double> history_time;                     // the window's snapshots, oldest first
+  std::vector<std::int64_t> history_count, history_id;  // particles per snapshot; their ids
+  std::vector<double> history_position;                 // 3 per id
   std::vector<double> bin_edges;
-  std::vector<double> samples;                                // sample_values() per sample
+  std::vector<double> samples;  // sample_values() per sample
   std::size_t sample_count = 0;
 };
 
