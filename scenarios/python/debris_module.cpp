@@ -10,6 +10,7 @@
 #include "kernels/dem/integrate.hpp"
 #include "scenarios/common/dem/dem_run.hpp"
 #include "scenarios/common/dem/dem_simulation.hpp"
+#include "scenarios/common/dem/surface_census.hpp"
 #include "scenarios/common/dem/wear_analysis.hpp"
 #include "scenarios/common/peridem/peridem_run.hpp"
 #include "scenarios/common/peridem/peridem_simulation.hpp"
@@ -199,6 +200,29 @@ PYBIND11_MODULE(_debris, m) {
                              "detection_index"_a = w->detection_index(), "samples"_a = samples,
                              "last"_a = w->samples().empty() ? py::object(py::none())
                                                              : py::object(wear_sample_dict(w->samples().back())));
+           })
+      .def("dem_surfaces",
+           [](PyRun& r) -> py::object {
+             require(r, PyModel::dem);
+             const SurfaceCensus* c = dem_surface_census(r.model());
+             if (!c) return py::none();
+             // Each sample as surfaces.csv's row, by column name; the histograms as surfaces_histogram.csv's.
+             const std::vector<std::string> names = SurfaceCensus::columns(), hist = SurfaceCensus::histogram_columns();
+             py::list samples;
+             for (const SurfaceSample& s : c->samples()) {
+               const std::vector<double> row = SurfaceCensus::row(s);
+               py::dict d;
+               for (std::size_t k = 0; k < names.size() && k < row.size(); ++k) d[py::str(names[k])] = row[k];
+               py::list bins;
+               for (const std::vector<double>& b : c->histogram_rows(s)) {
+                 py::dict bd;
+                 for (std::size_t k = 0; k < hist.size() && k < b.size(); ++k) bd[py::str(hist[k])] = b[k];
+                 bins.append(bd);
+               }
+               d["histogram"] = bins;
+               samples.append(d);
+             }
+             return py::dict("report"_a = c->report(), "samples"_a = samples);
            })
       .def("dem_rebuild",
            [](PyRun& r) {

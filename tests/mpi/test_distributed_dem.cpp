@@ -51,6 +51,7 @@ Sample sheared_sample(double slide_per_step, double kick, bool walls = true) {
   s.settings.material.restitution = 0.9;
   s.settings.time_step_fraction = 0.1;
   s.settings.global_damping = 0.02;
+  s.settings.energy_accounting = true;  // its sums too are compared bit for bit
   const CohesiveCoefficients coef = CohesiveCoefficients::from(s.settings.material);
   Particles probe = s.particles;
   probe.set_mass_from_density(s.settings.material.density);
@@ -104,6 +105,13 @@ std::vector<double> thermo_row(const DemSimulation& sim) {
   for (std::size_t i = 0; i < p.size(); ++i) even[i] = p.id[i] % 2 == 0;
   const StressTensor part = sim.virial_stress(even.data(), volume / 2, false);
   for (const StressTensor& t : {all, part}) row.insert(row.end(), {t.xx, t.yy, t.zz, t.xy, t.xz, t.yz});
+  // The energy accounting's sums: each mechanism, each group's drive, the residual.
+  if (sim.settings().energy_accounting) {
+    const EnergyBalance b = sim.energy_balance(d);
+    row.insert(row.end(), {b.totals.dissipated_normal, b.totals.dissipated_tangential, b.totals.dissipated_sliding,
+                           b.totals.dissipated_global, b.totals.tangential_work, b.residual()});
+    row.insert(row.end(), b.totals.drive_work.begin(), b.totals.drive_work.end());
+  }
   return row;
 }
 

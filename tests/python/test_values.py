@@ -82,3 +82,31 @@ def test_loud_run_prints_what_the_executable_prints(tmp_path, capfd):
     assert len(exe_lines) > 20 and "pass            seconds   share" in exe_lines
     assert py_lines == exe_lines
     assert err == err_exe
+
+
+def test_energy_balance_and_wear_census_are_values(tmp_path):
+    """sim.energy() is the balance of thermo.csv's last row; sim.surfaces() the census's samples, each with
+    its histogram; every particle in exactly one state at every sample."""
+    values = input_dict("wear/junction_D10_d0_6nm.yaml", run={"steps": 5000},
+                        output={"pictures": False, "dump_every": 0, "thermo_every": 625},
+                        surfaces={"window": "0.1 ns"})
+    del values["wear"]
+    sim = debris.Dem(values, output=str(tmp_path), threads=1, quiet=True)
+    sim.run()
+    energy = sim.energy()
+    assert energy["work_in"] > 0 and energy["work_stages"] == 0
+    assert energy["work_in"] == sum(energy["work_drives"].values())
+    dissipated = sum(energy[k] for k in ("dissipated_normal", "dissipated_tangential", "dissipated_sliding",
+                                         "dissipated_global"))
+    closed = (energy["kinetic_energy"] - energy["kinetic_energy_start"] + energy["elastic_energy"]
+              - energy["elastic_energy_start"] + dissipated + energy["residual"])
+    assert abs(closed - energy["work_in"]) <= 1e-12 * energy["work_in"]
+    assert abs(energy["residual"]) < 0.01 * energy["work_in"]
+    assert sim.thermo()["work_in"] == energy["work_in"]
+    census = sim.surfaces()
+    samples = census["samples"]
+    assert [s["step"] for s in samples] == list(range(0, 5001, 625))
+    n = len(sim.state.id)
+    for s in samples:
+        assert s["bottom_particles"] + s["top_particles"] + s["third_particles"] == n
+        assert sum(b["clusters"] for b in s["histogram"]) == s["clusters"]

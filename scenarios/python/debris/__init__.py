@@ -377,6 +377,11 @@ class Dem(_Simulation):
         last}, each sample a dict of the wear.csv columns with its verdicts by name."""
         return self._run.dem_wear()
 
+    def surfaces(self):
+        """The wear census (inputs with `surfaces:`), or None: {report, samples}, each sample a dict of the
+        surfaces.csv columns with its `histogram` (surfaces_histogram.csv's rows of that sample)."""
+        return self._run.dem_surfaces()
+
     def resort(self):
         """A neighbour rebuild now, with its re-sort in memory (views made before it go stale)."""
         self._check_no_edit()
