@@ -57,10 +57,10 @@ inline double partner_energy(const ChunkBuffer<E> &c, int col, int q) {
 
 // Phase 1 for pairs [k0, k1): eqs 2-5 (cohesive_pair_force) for each pair, its force and both torques
 // into the chunk buffer. The evaluator is branch-free, so this loop vectorises. Compiled three times
-// (x86-64, AVX2, AVX-512); the loader picks the best the machine runs, so the default build still runs
-// anywhere.
+// (x86-64, AVX2, AVX-512) in each of the two functions below; the loader picks the best the machine runs,
+// so the default build still runs anywhere.
 template <int E>
-DEBRIS_HOST_ONLY_CLONES void pair_chunk(const PairInputs &a, int k0, int k1, ChunkBuffer<E> &o) {
+DEBRIS_ALWAYS_INLINE void pair_chunk_body(const PairInputs &a, int k0, int k1, ChunkBuffer<E> &o) {
   const int *__restrict row = o.row;
   const int *__restrict col = a.col;
   const double *__restrict x = a.x, *__restrict y = a.y, *__restrict z = a.z, *__restrict r = a.r;
@@ -138,6 +138,19 @@ DEBRIS_HOST_ONLY_CLONES void pair_chunk(const PairInputs &a, int k0, int k1, Chu
       o.ej[kPairTangentialWork][q] = out.tangential_work;
     }
   }
+}
+
+// The clones are of plain functions (clang multiversions no function template), one per E.
+DEBRIS_HOST_ONLY_CLONES void pair_chunk_plain(const PairInputs &a, int k0, int k1, ChunkBuffer<0> &o) {
+  pair_chunk_body<0>(a, k0, k1, o);
+}
+DEBRIS_HOST_ONLY_CLONES void pair_chunk_energy(const PairInputs &a, int k0, int k1, ChunkBuffer<kE> &o) {
+  pair_chunk_body<kE>(a, k0, k1, o);
+}
+template <int E>
+inline void pair_chunk(const PairInputs &a, int k0, int k1, ChunkBuffer<E> &o) {
+  if constexpr (E > 0) pair_chunk_energy(a, k0, k1, o);
+  else pair_chunk_plain(a, k0, k1, o);
 }
 
 // A row's own shares (force and torque on i), summed in increasing k.
