@@ -36,23 +36,37 @@ constexpr int kRowRun = 8;
 template <int E>
 constexpr int chunk_pairs = E > 0 ? kChunkPairs / 2 : kChunkPairs;
 constexpr int kE = kPairEnergyColumns;  // a particle's energy parts are contiguous: a partner's in one place
+// A pair's energy parts, pair-major (one 128-byte record per pair), so the scalar sweep adds each record to a
+// particle's contiguous parts in a few vector operations: i's kE parts, then the partner's own damping torque.
+// The partner's other parts follow from i's: the damping forces negated, the same energies.
+constexpr int kRecord = 16;
+constexpr int kTorqueJ = kE;  // record slots kE .. kE + 2
+static_assert(kE + 3 <= kRecord);
 template <int E>
 struct ChunkBuffer {
-  static constexpr int J = E;  // the partner's parts: the damping forces negated, its torque, the same energies
   static constexpr int P = chunk_pairs<E>;
+  static constexpr int R = E > 0 ? P : 1;
   alignas(64) int row[P + kRowRun];  // i of each pair, from the list's offsets (no column kept)
   alignas(64) double fx[P], fy[P], fz[P];
   alignas(64) double tix[P], tiy[P], tiz[P];
   alignas(64) double tjx[P], tjy[P], tjz[P];
-  alignas(64) std::array<std::array<double, P>, E> e;
-  alignas(64) std::array<std::array<double, P>, J> ej;
+  alignas(64) double e[R][kRecord];
 };
 
-// The partner's energy part c of a pair (slot q), stored whole by the vector loop so that the scalar sweep
-// only adds.
+// The partner's parts of slot q's record: -damping forces, its damping torque, the same four energies.
 template <int E>
-inline double partner_energy(const ChunkBuffer<E> &c, int col, int q) {
-  return c.ej[static_cast<std::size_t>(col)][static_cast<std::size_t>(q)];
+inline void partner_parts(const ChunkBuffer<E> &c, int q, double *__restrict out) {
+  const double *__restrict rec = c.e[q];
+  for (int m = kDampNx; m <= kDampTz; ++m) out[m] = -rec[m];
+  for (int m = 0; m < 3; ++m) out[kDampTorqueX + m] = rec[kTorqueJ + m];
+  for (int m = kPairDissNormal; m < kE; ++m) out[m] = rec[m];
+}
+template <int E>
+inline void add_partner_parts(const ChunkBuffer<E> &c, int q, double *__restrict dst) {
+  const double *__restrict rec = c.e[q];
+  for (int m = kDampNx; m <= kDampTz; ++m) dst[m] -= rec[m];
+  for (int m = 0; m < 3; ++m) dst[kDampTorqueX + m] += rec[kTorqueJ + m];
+  for (int m = kPairDissNormal; m < kE; ++m) dst[m] += rec[m];
 }
 
 // Phase 1 for pairs [k0, k1): eqs 2-5 (cohesive_pair_force) for each pair, its force and both torques
@@ -110,32 +124,23 @@ DEBRIS_ALWAYS_INLINE void pair_chunk_body(const PairInputs &a, int k0, int k1, C
     tjy[q] = out.torque_j.y;
     tjz[q] = out.torque_j.z;
     if constexpr (E > 0) {
-      o.e[kDampNx][q] = out.damping_n.x;
-      o.e[kDampNy][q] = out.damping_n.y;
-      o.e[kDampNz][q] = out.damping_n.z;
-      o.e[kDampTx][q] = out.damping_t.x;
-      o.e[kDampTy][q] = out.damping_t.y;
-      o.e[kDampTz][q] = out.damping_t.z;
-      o.e[kDampTorqueX][q] = out.damping_torque.x;
-      o.e[kDampTorqueY][q] = out.damping_torque.y;
-      o.e[kDampTorqueZ][q] = out.damping_torque.z;
-      o.e[kPairDissNormal][q] = out.dissipated_normal;
-      o.e[kPairDissTangential][q] = out.dissipated_tangential;
-      o.e[kPairDissSliding][q] = out.dissipated_sliding;
-      o.e[kPairTangentialWork][q] = out.tangential_work;
-      o.ej[kDampNx][q] = -out.damping_n.x;
-      o.ej[kDampNy][q] = -out.damping_n.y;
-      o.ej[kDampNz][q] = -out.damping_n.z;
-      o.ej[kDampTx][q] = -out.damping_t.x;
-      o.ej[kDampTy][q] = -out.damping_t.y;
-      o.ej[kDampTz][q] = -out.damping_t.z;
-      o.ej[kDampTorqueX][q] = out.damping_torque_j.x;
-      o.ej[kDampTorqueY][q] = out.damping_torque_j.y;
-      o.ej[kDampTorqueZ][q] = out.damping_torque_j.z;
-      o.ej[kPairDissNormal][q] = out.dissipated_normal;
-      o.ej[kPairDissTangential][q] = out.dissipated_tangential;
-      o.ej[kPairDissSliding][q] = out.dissipated_sliding;
-      o.ej[kPairTangentialWork][q] = out.tangential_work;
+      double *__restrict rec = o.e[q];
+      rec[kDampNx] = out.damping_n.x;
+      rec[kDampNy] = out.damping_n.y;
+      rec[kDampNz] = out.damping_n.z;
+      rec[kDampTx] = out.damping_t.x;
+      rec[kDampTy] = out.damping_t.y;
+      rec[kDampTz] = out.damping_t.z;
+      rec[kDampTorqueX] = out.damping_torque.x;
+      rec[kDampTorqueY] = out.damping_torque.y;
+      rec[kDampTorqueZ] = out.damping_torque.z;
+      rec[kPairDissNormal] = out.dissipated_normal;
+      rec[kPairDissTangential] = out.dissipated_tangential;
+      rec[kPairDissSliding] = out.dissipated_sliding;
+      rec[kPairTangentialWork] = out.tangential_work;
+      rec[kTorqueJ] = out.damping_torque_j.x;
+      rec[kTorqueJ + 1] = out.damping_torque_j.y;
+      rec[kTorqueJ + 2] = out.damping_torque_j.z;
     }
   }
 }
@@ -199,7 +204,7 @@ inline void sweep_rows(const PairInputs &in, int row_begin, int row_end, ChunkBu
       sum.tx += c.tix[q];
       sum.ty += c.tiy[q];
       sum.tz += c.tiz[q];
-      for (int m = 0; m < E; ++m) sum.e[static_cast<std::size_t>(m)] += c.e[static_cast<std::size_t>(m)][static_cast<std::size_t>(q)];
+      for (int m = 0; m < E; ++m) sum.e[static_cast<std::size_t>(m)] += c.e[q][m];
       partner(k, q);
     }
   }
@@ -380,7 +385,7 @@ void filed_pass(const PairInputs &in, const NeighborList &list, Particles &p, Ha
             double *share_k = filed + kStride * k;
             share_k[0] = c.fx[q], share_k[1] = c.fy[q], share_k[2] = c.fz[q];
             share_k[3] = c.tjx[q], share_k[4] = c.tjy[q], share_k[5] = c.tjz[q];
-            for (int m = 0; m < E; ++m) share_k[6 + m] = partner_energy<E>(c, m, q);
+            if constexpr (E > 0) partner_parts<E>(c, q, share_k + 6);
           });
     }
     DEBRIS_HOST_FOR
@@ -454,7 +459,7 @@ void half_pass(const PairInputs &in, Particles &p, const NeighborList &list, Hal
           double *share_k = tail_share + kStride * (run_pair[r] + k - k0);
           share_k[0] = c.fx[q], share_k[1] = c.fy[q], share_k[2] = c.fz[q];
           share_k[3] = c.tjx[q], share_k[4] = c.tjy[q], share_k[5] = c.tjz[q];
-          for (int m = 0; m < E; ++m) share_k[6 + m] = partner_energy<E>(c, m, q);
+          if constexpr (E > 0) partner_parts<E>(c, q, share_k + 6);
         });
   };
   auto add_partner_share = [&](int j, const double *share) {
@@ -482,7 +487,7 @@ void half_pass(const PairInputs &in, Particles &p, const NeighborList &list, Hal
           tx[j] += c.tjx[q];
           ty[j] += c.tjy[q];
           tz[j] += c.tjz[q];
-          for (int m = 0; m < E; ++m) energy[kE * j + m] += partner_energy<E>(c, m, q);
+          if constexpr (E > 0) add_partner_parts<E>(c, q, energy + kE * j);
         });
   };
   auto part_sweep = [&](int u, ChunkBuffer<E> &c) {  // part u's forces, once every tail is swept

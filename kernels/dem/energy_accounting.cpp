@@ -12,23 +12,8 @@ PairEnergyOut PairEnergyBuffers::out() { return PairEnergyOut{rows.data()}; }
 
 std::size_t PairEnergyBuffers::bytes() const { return sizeof(double) * rows.capacity(); }
 
-std::vector<Vec3> next_group_velocities(const Groups& groups, double dt) {
-  std::vector<Vec3> next;
-  next.reserve(groups.size());
-  for (const Group& g : groups.list) {
-    if (g.motion == GroupMotion::frozen) {
-      next.push_back(Vec3{});
-      continue;
-    }
-    Vec3 v = g.velocity;
-    if (g.motion == GroupMotion::force && g.mass > 0.0) v = kicked_velocity(g, dt);
-    next.push_back(v);
-  }
-  return next;
-}
-
-void fold_energy(Particles& p, const PairEnergyBuffers& pair, Groups::View groups, const std::vector<Vec3>& next,
-                 double damping, double dt) {
+void fold_energy(Particles& p, PairEnergyBuffers& pair, const Groups& groups, Groups::View view, double damping,
+                 double dt) {
   const int n = static_cast<int>(p.size());
   const double *__restrict vx = p.vx.data(), *__restrict vy = p.vy.data(), *__restrict vz = p.vz.data();
   const double *__restrict wx = p.wx.data(), *__restrict wy = p.wy.data(), *__restrict wz = p.wz.data();
@@ -36,14 +21,22 @@ void fold_energy(Particles& p, const PairEnergyBuffers& pair, Groups::View group
   const double *__restrict tx = p.tx.data(), *__restrict ty = p.ty.data(), *__restrict tz = p.tz.data();
   const double *__restrict mass = p.mass.data(), *__restrict inertia = p.inertia.data();
   const int* __restrict group = p.group.data();
-  const int* __restrict mode = groups.mode;
+  const int* __restrict mode = view.mode;
   const double* __restrict e = pair.rows.data();
   double *__restrict pend_n = p.pending_normal.data(), *__restrict pend_t = p.pending_tangential.data();
   double *__restrict pend_g = p.pending_global.data(), *__restrict pend_w = p.pending_tangential_work.data();
   double *__restrict pend_d = p.pending_drive.data(), *__restrict sliding = p.dissipated_sliding.data();
-  // The groups' next velocities, flat for the kernel (a few numbers).
-  exec::DeviceVector<double> gv(3 * next.size());
-  for (std::size_t g = 0; g < next.size(); ++g) gv[3 * g] = next[g].x, gv[3 * g + 1] = next[g].y, gv[3 * g + 2] = next[g].z;
+  // The groups' next velocities, flat for the kernel (a few numbers, in a buffer kept between steps).
+  exec::DeviceVector<double>& gv = pair.group_next;
+  if (gv.size() != 3 * groups.size()) gv.resize(3 * groups.size());
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    // As kick_rigid_groups() will set them; frozen: at rest.
+    const Group& grp = groups.list[g];
+    Vec3 v = grp.velocity;
+    if (grp.motion == GroupMotion::frozen) v = Vec3{};
+    else if (grp.motion == GroupMotion::force && grp.mass > 0.0) v = kicked_velocity(grp, dt);
+    gv[3 * g] = v.x, gv[3 * g + 1] = v.y, gv[3 * g + 2] = v.z;
+  }
   const double* __restrict gnext = gv.data();
   const double c = damping;
   exec::to_device(gv);

@@ -43,19 +43,18 @@ class Particles;
 /// The force pass's per-particle sums (kPairEnergyColumns per particle, contiguous), sized with the particles.
 struct PairEnergyBuffers {
   exec::DeviceVector<double> rows;
+  exec::DeviceVector<double> group_next;  // each group's velocity after the next kick (fold_energy's, kept)
   void resize(std::size_t n);
   PairEnergyOut out();
   std::size_t bytes() const;
 };
 
-/// Each group's velocity after the next kick_rigid_groups() (frozen: 0), as the kick computes it.
-std::vector<Vec3> next_group_velocities(const Groups& groups, double dt);
-
 /// After a force evaluation (forces final: pairs, reactions, global damping with coefficient `damping`):
-/// sets the pending columns from the pass's sums `pair` for the integration to come, whose group
-/// velocities are `next` (next_group_velocities), and adds the pass's sliding to dissipated_sliding.
-void fold_energy(Particles& p, const PairEnergyBuffers& pair, Groups::View groups, const std::vector<Vec3>& next,
-                 double damping, double dt);
+/// sets the pending columns from the pass's sums `pair` for the integration to come (each group's velocity
+/// after the next kick, as kick_rigid_groups() will set it, kept in pair.group_next), and adds the pass's
+/// sliding to dissipated_sliding.
+void fold_energy(Particles& p, PairEnergyBuffers& pair, const Groups& groups, Groups::View view, double damping,
+                 double dt);
 
 /// At the start of a step: the pending shares into the cumulative columns (then zero).
 void commit_energy(Particles& p);

@@ -224,9 +224,10 @@ void DemSimulation::compute_forces(int update_history) {
   }
   const PassTimer timer(times_.other);
   groups_.measure_reactions(p_, sum_scope());
-  global_damping_pass(p_, groups_.view(), damping_);
+  const Groups::View view = groups_.view();
+  global_damping_pass(p_, view, damping_);
   // The forces are final: what each mechanism will take from the integration they drive.
-  if (energy) fold_energy(p_, pair_energy_, groups_.view(), next_group_velocities(groups_, dt_), damping_, dt_);
+  if (energy) fold_energy(p_, pair_energy_, groups_, view, damping_, dt_);
 }
 
 void DemSimulation::recompute_forces() {
