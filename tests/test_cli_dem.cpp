@@ -193,6 +193,17 @@ TEST_F(DemCli, MissingDataFile) {
                          (dir / "missing.data").lexically_normal().string(), "taken from the input file's folder"});
 }
 
+// A tiling count that is not a whole number >= 1 names the key and the counts.
+TEST_F(DemCli, BadReplicate) {
+  const std::string yaml = small_input(out.string());
+  expect_rejected(replace(yaml, "    cells: [3, 3, 3]\n", "    cells: [3, 3, 3]\n  replicate: [2, 0, 1]\n"),
+                  {"particles.replicate", "whole number from 1 to 1000"});
+  expect_rejected(replace(yaml, "    cells: [3, 3, 3]\n", "    cells: [3, 3, 3]\n  replicate: [2, 1.5, 1]\n"),
+                  {"particles.replicate", "1.5"});
+  expect_rejected(replace(yaml, "    cells: [3, 3, 3]\n", "    cells: [3, 3, 3]\n  replicate: [2, 2]\n"),
+                  {"particles.replicate", "three counts"});
+}
+
 TEST_F(DemCli, MalformedYaml) {
   expect_rejected(replace(small_input(out.string()), "  density: 1\n", "  density: [1\n"), {"line"});
 }

@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/io/input.hpp"
 #include "core/io/lammps_data.hpp"
+#include "scenarios/common/dem/replicate_sample.hpp"
 #include "core/lattice.hpp"
 #include "core/memory_budget.hpp"
 #include "core/region.hpp"
@@ -398,6 +399,23 @@ void read_system(const InputNode& root, const std::string& base_directory, DemRu
     cfg.particles = std::move(data.particles);
     cfg.box = Box(data.box.lo(), data.box.hi(), periodic);
     masses_given = parts.boolean("masses_from_file", false);
+  }
+  if (parts.has("replicate")) {
+    const std::vector<double> n = parts.numbers("replicate", units::dimensionless);
+    const std::string key = parts.path() + ".replicate";
+    if (n.size() != 3) throw input_error(key, parts.yaml_of("replicate"), "give three counts [n_x, n_y, n_z]");
+    std::array<int, 3> count{};
+    double total = static_cast<double>(cfg.particles.size());
+    for (int a = 0; a < 3; ++a) {
+      if (!(n[a] >= 1) || n[a] != std::floor(n[a]) || n[a] > 1000)
+        throw input_error(key, parts.yaml_of("replicate"), "each count is a whole number from 1 to 1000");
+      count[a] = static_cast<int>(n[a]);
+      total *= n[a];
+    }
+    if (total > 2e9)
+      throw input_error(key, parts.yaml_of("replicate"),
+                        "would make " + format_value(total) + " particles (at most 2e9 fit the index type)");
+    replicate_sample(cfg.particles, cfg.box, count);
   }
   if (box_node.has("lo") || box_node.has("hi")) {
     cfg.box = Box(box_node.vec3("lo", units::length, cfg.box.lo()), box_node.vec3("hi", units::length, cfg.box.hi()),

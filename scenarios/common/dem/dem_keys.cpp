@@ -44,6 +44,12 @@ void document_particles(KeyReference& r) {
   r.key("particles.lammps_data").is(KeyKind::text).fallback_is("give `lattice` or `lammps_data`")
       .means("a LAMMPS data file, atom_style sphere (id type diameter density x y z [ix iy iz], optional "
              "Velocities), relative to the input file; its particles are unlabelled and its bounds are the box");
+  r.key("particles.replicate").is(KeyKind::numbers).fallback("[1, 1, 1]")
+      .allowed("three whole numbers, 1 to 1000")
+      .means("tiles the particles n_x x n_y x n_z times, each copy shifted by whole box lengths, and grows the "
+             "box to match (before `box.lo`/`box.hi`, carving, labels and groups): a sample relaxed in a "
+             "periodic box continues across every seam with the neighbours it had across its periodic faces; "
+             "copy c's ids are id + c (max id + 1)");
   r.key("particles.masses_from_file").is(KeyKind::boolean).fallback("false")
       .means("with `lammps_data`: true keeps the file's densities (masses); false gives every particle "
              "`material.density`");
