@@ -4,16 +4,17 @@
 #   find_package(debris REQUIRED)
 #   target_link_libraries(app PRIVATE debris::dem)      # or debris::peridem, debris::core, ...
 # The libraries are static; the package finds what they link (OpenMP, yaml-cpp, Eigen, CLI11; HDF5 comes as
-# debris::hdf5 with the paths of the build, so the consumer needs neither FindHDF5 nor the C language).
+# debris::hdf5 with the paths of the build, so the consumer needs neither FindHDF5 nor the C language; FFTW
+# likewise as debris::fftw).
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-set(_debris_libraries debris_openmp debris_hdf5 debris_core debris_kernels_dem debris_kernels_peridem debris_run debris_dem_sim
+set(_debris_libraries debris_openmp debris_hdf5 debris_fftw debris_core debris_kernels_dem debris_kernels_peridem debris_run debris_dem_sim
     debris_peridem_sim)
 # The names another project links: debris::core, debris::kernels_dem, ..., debris::dem, debris::peridem.
 set_target_properties(debris_dem_sim PROPERTIES EXPORT_NAME dem)
 set_target_properties(debris_peridem_sim PROPERTIES EXPORT_NAME peridem)
-foreach(_t debris_openmp debris_hdf5 debris_core debris_kernels_dem debris_kernels_peridem debris_run)
+foreach(_t debris_openmp debris_hdf5 debris_fftw debris_core debris_kernels_dem debris_kernels_peridem debris_run)
   string(REPLACE "debris_" "" _name ${_t})
   set_target_properties(${_t} PROPERTIES EXPORT_NAME ${_name})
 endforeach()

@@ -24,6 +24,7 @@ packages=(
   g++ cmake make
   libeigen3-dev libhdf5-dev libyaml-cpp-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libfftw3-dev           # FFTW 3: the rough surfaces' generator and spectra (core/rough)
   gcc-12-offload-nvptx   # the DEBRIS_OFFLOAD=nvptx configuration (GCC 12 OpenMP offload to NVIDIA GPUs)
   python3                # bench/perf_check.py
   libgmsh-dev            # Gmsh's C++ API: PeriDEM grain and wall shapes meshed in-process (scenarios/common/peridem/shape_mesh; the tests need it)

@@ -37,7 +37,8 @@ struct HeightField {
   /// Root mean square of h - mean over the grid points.
   double rms_height() const;
   /// Root mean square of the gradient's magnitude, by central differences on the periodic grid (along a only
-  /// for a profile).
+  /// for a profile). Short waves come out low (by sin(k d) / (k d)); the spectral one, exact for the
+  /// band-limited field the generator makes, is spectral_rms_slope (surface_spectrum.hpp).
   double rms_slope() const;
 };
 
