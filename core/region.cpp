@@ -13,6 +13,7 @@
 #include "core/memory_budget.hpp"
 #include "core/rough/height_field.hpp"
 #include "core/rough/height_map_file.hpp"
+#include "core/rough/self_affine_input.hpp"
 #include "core/rough/self_affine_surface.hpp"
 
 namespace debris {
@@ -76,19 +77,6 @@ Region read_cylinder(const InputNode& n, const Box* box) {
 
 std::string join_key(const std::string& path, const std::string& key) { return path.empty() ? key : path + "." + key; }
 
-// The self-affine keys of a surface. (Read here until the generator's own reader lands.)
-SelfAffineSpec read_self_affine_keys(const InputNode& n) {
-  SelfAffineSpec s;
-  s.hurst = n.quantity("hurst", units::dimensionless, s.hurst);
-  s.rms_height = n.quantity("rms_height", units::length, 0.0);
-  s.rms_slope = n.quantity("rms_slope", units::dimensionless, 0.0);
-  s.rolloff_wavelength = n.quantity("rolloff_wavelength", units::length, 0.0);
-  s.cutoff_wavelength = n.quantity("cutoff_wavelength", units::length);
-  s.largest_wavelength = n.quantity("largest_wavelength", units::length, 0.0);
-  s.seed = static_cast<std::uint64_t>(n.integer("seed", 1));
-  return s;
-}
-
 // Grid points along one in-plane axis: the fewest whose spacing is at most `spacing`.
 int grid_points(double length, double spacing) {
   return std::max(1, static_cast<int>(std::ceil(length / spacing * (1 - 1e-12))));
@@ -98,16 +86,13 @@ int grid_points(double length, double spacing) {
 HeightField self_affine_field(const InputNode& n, const std::string& path, const Box& box, int normal,
                               std::string& made_by, double& shortest, std::string& shortest_key) {
   const InputNode sa = n.child("self_affine");
-  const SelfAffineSpec spec = read_self_affine_keys(sa);
+  const SelfAffineSpec spec = read_self_affine_spec(sa);
   const std::string sa_path = join_key(path, "self_affine");
   // Checked before any grid is made: a field taller than the box cannot be carved in it, whatever its shape.
   if (spec.rms_height > box.length(normal))
     throw input_error(join_key(sa_path, "rms_height"), format_value(spec.rms_height),
                       std::string("a surface that does not fit the box: the rms height exceeds the box's ") +
                           "xyz"[normal] + " length " + format_value(box.length(normal)));
-  if (!(spec.cutoff_wavelength > 0.0) || !std::isfinite(spec.cutoff_wavelength))
-    throw input_error(join_key(sa_path, "cutoff_wavelength"), format_value(spec.cutoff_wavelength),
-                      "must be a length > 0 (the shortest wavelength of the surface)");
   const double grid_spacing = n.quantity("grid_spacing", units::length, spec.cutoff_wavelength / 4);
   if (!(grid_spacing > 0.0) || !std::isfinite(grid_spacing))
     throw input_error(join_key(path, "grid_spacing"), format_value(grid_spacing), "must be a length > 0");
@@ -446,24 +431,9 @@ void document_regions(KeyReference& ref) {
   ref.key("surface.grid_spacing", t).is(KeyKind::quantity).in(units::length)
       .fallback_is("a quarter of self_affine.cutoff_wavelength").allowed("> 0, at most half the cutoff wavelength")
       .means("the generated surface's grid spacing (the grid spans the box; heights are bilinear between points)");
-  ref.key("surface.self_affine", t).is(KeyKind::section).fallback_is("one of self_affine or height_map")
-      .means("a self-affine random surface by Fourier filtering, scaled to its rms height exactly");
-  ref.key("surface.self_affine.hurst", t).is(KeyKind::quantity).fallback("0.8").allowed("(0, 1)")
-      .means("the Hurst exponent H");
-  ref.key("surface.self_affine.rms_height", t).is(KeyKind::quantity).in(units::length).fallback("0")
-      .allowed(">= 0, at most the box along the normal; give exactly one of rms_height and rms_slope")
-      .means("the root mean square height");
-  ref.key("surface.self_affine.rms_slope", t).is(KeyKind::quantity).fallback("0")
-      .allowed(">= 0; give exactly one of rms_height and rms_slope").means("the root mean square slope");
-  ref.key("surface.self_affine.rolloff_wavelength", t).is(KeyKind::quantity).in(units::length).fallback("0")
-      .allowed(">= 0; 0: the box's length along the first in-plane axis")
-      .means("the roll-off wavelength: the spectrum is flat at longer wavelengths");
-  ref.key("surface.self_affine.cutoff_wavelength", t).is(KeyKind::quantity).in(units::length)
-      .allowed("> 0, below the roll-off wavelength").means("the shortest wavelength of the surface");
-  ref.key("surface.self_affine.largest_wavelength", t).is(KeyKind::quantity).in(units::length).fallback("0")
-      .allowed(">= 0; 0: the box").means("the longest wavelength kept");
-  ref.key("surface.self_affine.seed", t).is(KeyKind::integer).fallback("1")
-      .means("the random numbers' seed: the same seed, the same surface");
+  ref.key("surface.self_affine", t).is(KeyKind::section).follows("self_affine")
+      .fallback_is("one of self_affine or height_map")
+      .means("a self-affine random surface over the box's in-plane lengths, its keys in the table self_affine");
   ref.key("surface.height_map", t).is(KeyKind::section).fallback_is("one of self_affine or height_map")
       .means("a measured height map: a text grid of heights, one row per line along the first in-plane axis, "
              "covering the box's in-plane lengths at its spacing");
@@ -478,6 +448,7 @@ void document_regions(KeyReference& ref) {
       .allowed("at least one region").means("the points inside any of the listed regions");
   ref.key("difference", t).is(KeyKind::list).follows(t).fallback_is("one form per region")
       .allowed("two or more regions").means("the points of the first region that are in none of the others");
+  document_self_affine(ref, "self_affine");
 }
 
 }  // namespace debris
