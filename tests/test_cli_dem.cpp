@@ -202,6 +202,40 @@ TEST_F(DemCli, BadReplicate) {
                   {"particles.replicate", "1.5"});
   expect_rejected(replace(yaml, "    cells: [3, 3, 3]\n", "    cells: [3, 3, 3]\n  replicate: [2, 2]\n"),
                   {"particles.replicate", "three counts"});
+// A rough surface carves by particle centres: features shorter than two particle diameters cannot be cut by
+// spheres. The small input's particles are 100 across, its box 424.26 on each side.
+TEST_F(DemCli, RoughSurfaceFinerThanTwoDiameters) {
+  const std::string surface = "{surface: {normal: y, side: above, at: 212, self_affine: {hurst: 0.8, rms_height: 20, "
+                              "cutoff_wavelength: 150, seed: 3}, grid_spacing: 20}}";
+  expect_rejected(small_input(out.string()) + "remove: " + surface + "\n",
+                  {"'remove.surface.self_affine.cutoff_wavelength' = 150", "shortest wavelength 150",
+                   "two particle diameters (2 x 100 = 200", "cannot be carved by spheres"});
+  expect_rejected(small_input(out.string()) + "labels:\n  - {name: rough, region: " + surface + "}\n",
+                  {"'labels[0].region.surface.self_affine.cutoff_wavelength' = 150", "cannot be carved"});
+  expect_rejected(small_input(out.string()) + "groups:\n  - {name: rough, region: " + surface + "}\n",
+                  {"'groups[0].region.surface.self_affine.cutoff_wavelength' = 150", "cannot be carved"});
+  // A measured map of 8 x 8 points over the box: spacing 53.03, shortest wavelength 106.07.
+  std::string map;
+  for (int i = 0; i < 8; ++i) map += "1 -2 3 0 -1 2 -3 0\n";
+  write(dir, "fine.txt", map);
+  expect_rejected(small_input(out.string()) +
+                      "remove: {surface: {normal: y, side: above, at: 212, height_map: {file: fine.txt, "
+                      "spacing: [53.0330085890, 53.0330085890]}}}\n",
+                  {"'remove.surface.height_map.spacing' = 53.033008589", "shortest wavelength 106.066017178",
+                   "2 x 100 = 200", "cannot be carved"});
+}
+
+// A map of 4 x 4 points (shortest wavelength 212.1 > 200), found beside the input: the top half goes.
+TEST_F(DemCli, RoughSurfaceFromAMapBesideTheInput) {
+  write(dir, "coarse.txt", "10 -5 0 5\n-10 0 5 0\n0 5 -5 10\n5 0 -10 0\n");
+  const fs::path other = dir / "rough_out";
+  const Result r = run_dem("-i " + write(dir, "rough.yaml", small_input(other.string()) +
+                                                                "remove: {surface: {normal: y, side: above, at: 212, "
+                                                                "height_map: {file: coarse.txt, spacing: [106.066017178, "
+                                                                "106.066017178]}}}\n")
+                                       .string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(slurp(other / "thermo.csv").empty()) << r.output;
 }
 
 TEST_F(DemCli, MalformedYaml) {

@@ -83,6 +83,18 @@ std::array<bool, 3> read_periodic(const InputNode& b) {
   return periodic;
 }
 
+// A region as read for carving the particles: a rough surface in it must be resolvable by them
+// (check_surface_resolution, against the largest particle now in the system).
+Region read_carving_region(const InputNode& n, const std::string& base_directory, const DemRunConfig& cfg) {
+  Region region = read_region(n, &cfg.box, base_directory);
+  if (!region.surfaces().empty()) {
+    double largest = 0;
+    for (double r : cfg.particles.radius) largest = std::max(largest, 2 * r);
+    check_surface_resolution(region, largest);
+  }
+  return region;
+}
+
 // The entries of a key that takes one item or a list of them.
 std::vector<InputNode> one_or_list(const InputNode& root, const std::string& key) {
   return root.child(key).is_sequence() ? root.list(key) : std::vector<InputNode>{root.child(key)};
@@ -90,12 +102,12 @@ std::vector<InputNode> one_or_list(const InputNode& root, const std::string& key
 
 // `remove`: one region or a list; each deletes the particles still inside it, in order. Positions as read
 // (wrapped into the box on periodic axes, see core/region.hpp).
-void read_removal(const InputNode& root, DemRunConfig& cfg) {
+void read_removal(const InputNode& root, const std::string& base_directory, DemRunConfig& cfg) {
   if (!root.has("remove")) return;
   Particles& p = cfg.particles;
   std::vector<char> inside;
   for (const InputNode& n : one_or_list(root, "remove")) {
-    const Region region = read_region(n, &cfg.box);
+    const Region region = read_carving_region(n, base_directory, cfg);
     inside.assign(p.size(), 0);
     std::size_t count = 0;
     for (std::size_t i = 0; i < p.size(); ++i) {
@@ -116,7 +128,7 @@ void read_removal(const InputNode& root, DemRunConfig& cfg) {
 
 // `labels`: [{name, region}, ...], assigned in order, a later entry overriding an earlier one where they
 // overlap (paint the bodies, then the walls over them). Label k is entry k-1; 0 stays "unlabelled".
-void read_labels(const InputNode& root, DemRunConfig& cfg) {
+void read_labels(const InputNode& root, const std::string& base_directory, DemRunConfig& cfg) {
   if (!root.has("labels")) return;
   Particles& p = cfg.particles;
   std::fill(p.label.begin(), p.label.end(), 0);
@@ -127,7 +139,7 @@ void read_labels(const InputNode& root, DemRunConfig& cfg) {
     if (name.empty()) throw input_error(l.path() + ".name", "\"\"", "a label needs a name");
     if (std::find(p.label_names.begin(), p.label_names.end(), name) != p.label_names.end())
       throw input_error(l.path() + ".name", name, "the name is already used by an earlier label");
-    const Region region = read_region(l.child("region"), &cfg.box);
+    const Region region = read_carving_region(l.child("region"), base_directory, cfg);
     p.label_names.push_back(name);
     paths.push_back(l.path());
     const int k = static_cast<int>(p.label_names.size());
@@ -153,7 +165,7 @@ std::string vector_text(const InputNode& n, const std::string& key) {
   return t + "]";
 }
 
-void read_groups(const InputNode& root, DemRunConfig& cfg) {
+void read_groups(const InputNode& root, const std::string& base_directory, DemRunConfig& cfg) {
   if (!root.has("groups")) return;
   for (const InputNode& g : root.list("groups")) {
     Group group;
@@ -170,7 +182,7 @@ void read_groups(const InputNode& root, DemRunConfig& cfg) {
     bool any_rule = false;
     if (g.has("region")) {
       any_rule = true;
-      region = read_region(g.child("region"), &cfg.box);
+      region = read_carving_region(g.child("region"), base_directory, cfg);
     }
     std::vector<long> types, ids;
     if (g.has("types")) {
@@ -425,9 +437,9 @@ void read_system(const InputNode& root, const std::string& base_directory, DemRu
   // neighbour build would (same arithmetic, so a run is unchanged), counting the crossings in ix/iy/iz.
   cfg.box.wrap(cfg.particles);
   // Carving, then labels, then groups, so that labels and groups see the carved system.
-  read_removal(root, cfg);
-  read_labels(root, cfg);
-  read_groups(root, cfg);
+  read_removal(root, base_directory, cfg);
+  read_labels(root, base_directory, cfg);
+  read_groups(root, base_directory, cfg);
   cfg.settings.masses_from_density = !masses_given;
 }
 
