@@ -202,6 +202,8 @@ TEST_F(DemCli, BadReplicate) {
                   {"particles.replicate", "1.5"});
   expect_rejected(replace(yaml, "    cells: [3, 3, 3]\n", "    cells: [3, 3, 3]\n  replicate: [2, 2]\n"),
                   {"particles.replicate", "three counts"});
+}
+
 // A rough surface carves by particle centres: features shorter than two particle diameters cannot be cut by
 // spheres. The small input's particles are 100 across, its box 424.26 on each side.
 TEST_F(DemCli, RoughSurfaceFinerThanTwoDiameters) {
