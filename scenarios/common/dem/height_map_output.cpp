@@ -43,21 +43,23 @@ HeightMapWriter::HeightMapWriter(std::string path, long keep) : path_(std::move(
       if (old.has_attribute(a)) out.set_attribute(a, old.attribute<std::int32_t>(a));
     for (const char* a : {"spacing", "origin"})
       if (old.has_attribute(a)) out.set_attribute(a, old.attribute_array<double>(a));
-    h5::Group from = old.open_group("samples");
-    h5::Group to = out.create_group("samples");
-    for (long k = 0; k < keep; ++k) {
-      const std::string name = std::to_string(k);
-      if (!from.has(name))
-        throw std::runtime_error(path_ + ": holds " + std::to_string(k) + " census samples; the run continues from " +
-                                 std::to_string(keep));
-      h5::Group s = from.open_group(name);
-      h5::Group d = to.create_group(name);
-      d.set_attribute("step", s.attribute<std::int64_t>("step"));
-      d.set_attribute("time", s.attribute<double>("time"));
-      d.set_attribute("slide", s.attribute<double>("slide"));
-      for (const char* face : {"bottom", "top"}) {
-        const h5::Array<double> a = s.read<double>(face);
-        d.write(face, a.values, a.shape.at(0), a.shape.at(1));
+    {  // the groups close before the files
+      h5::Group from = old.open_group("samples");
+      h5::Group to = out.create_group("samples");
+      for (long k = 0; k < keep; ++k) {
+        const std::string name = std::to_string(k);
+        if (!from.has(name))
+          throw std::runtime_error(path_ + ": holds " + std::to_string(k) + " census samples; the run continues from " +
+                                   std::to_string(keep));
+        h5::Group s = from.open_group(name);
+        h5::Group d = to.create_group(name);
+        d.set_attribute("step", s.attribute<std::int64_t>("step"));
+        d.set_attribute("time", s.attribute<double>("time"));
+        d.set_attribute("slide", s.attribute<double>("slide"));
+        for (const char* face : {"bottom", "top"}) {
+          const h5::Array<double> a = s.read<double>(face);
+          d.write(face, a.values, a.shape.at(0), a.shape.at(1));
+        }
       }
     }
     out.close();
@@ -69,13 +71,14 @@ HeightMapWriter::HeightMapWriter(std::string path, long keep) : path_(std::move(
 void HeightMapWriter::append(long step, double time, double slide, const HeightField& bottom, const HeightField& top) {
   h5::File f(path_, h5::File::Mode::read_write);
   if (samples_ == 0) write_layout(f, bottom);
-  h5::Group s = f.open_group("samples").create_group(std::to_string(samples_));
-  s.set_attribute("step", static_cast<std::int64_t>(step));
-  s.set_attribute("time", time);
-  s.set_attribute("slide", slide);
-  write_field(s, "bottom", bottom);
-  write_field(s, "top", top);
-  s = h5::Group{};  // nothing of the file may stay open at close
+  {  // the group closes before the file (close() checks that nothing of it stays open)
+    h5::Group s = f.open_group("samples").create_group(std::to_string(samples_));
+    s.set_attribute("step", static_cast<std::int64_t>(step));
+    s.set_attribute("time", time);
+    s.set_attribute("slide", slide);
+    write_field(s, "bottom", bottom);
+    write_field(s, "top", top);
+  }
   f.close();
   ++samples_;
 }
