@@ -7,6 +7,11 @@
 //     one cluster each, and a ball labelled with the bottom body but moving with the top wall is transfer;
 //   - the sheared junction of paper A (D = 20 nm, d0 = 6 nm): every particle in exactly one of bottom, top and
 //     third body at every sample, wear once sheared;
+//   - a hand-built state: a cluster touching no driven member is detached, one hanging from the top driven
+//     group attached to it, and once the lid is lowered onto it, bridging; counts and volumes exact (4/3 pi r^3
+//     sums), every particle counted once; the tangential work of each third-body cluster from tangential_work
+//     columns set by hand (less their values when the particles joined), the V_d(W_t) fit through them, and
+//     the contact tangential work as the accounting's sum; NaN and a reason with the accounting off;
 //   - surfaces.csv the same bits on 1 and 2 threads; bad `surfaces:` input is exit 2 naming the key, nothing
 //     written. (A chunked run's census: WearJunctionRestart; the rolling junction's: WearJunctionRolling.)
 #include <gtest/gtest.h>
@@ -19,7 +24,9 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/io/text_format.hpp"
 #include "core/lattice.hpp"
+#include "kernels/dem/cohesive_material.hpp"
 #include "scenarios/common/dem/dem_run.hpp"
 #include "scenarios/common/dem/dem_simulation.hpp"
 #include "scenarios/common/dem/surface_census.hpp"
@@ -32,6 +39,19 @@ namespace fs = std::filesystem;
 constexpr double kPi = 3.14159265358979323846;
 
 double sphere_volume(double r) { return 4.0 / 3.0 * kPi * r * r * r; }
+
+// Rows as the files write them (NaN, with the accounting off, compares equal as text).
+std::string csv_text(const std::vector<std::vector<double>>& rows) {
+  std::string t;
+  for (const std::vector<double>& row : rows) {
+    for (double v : row) {
+      append_number(t, v);
+      t += ',';
+    }
+    t += '\n';
+  }
+  return t;
+}
 
 // ---- two blocks sliding on a frictionless-like interface ---------------------------------------------------
 
@@ -288,6 +308,24 @@ TEST(SurfaceCensus, BallsMovingWithNeitherWallAreTheThirdBody) {
   EXPECT_EQ(last.to_bottom_volume, 0.0);
   EXPECT_NEAR(last.wear_volume, vol_a + vol_b + vol_c, 1e-12 * (vol_a + vol_b + vol_c));
   EXPECT_EQ(last.contact_pairs, 0);  // the walls are apart, C touches nothing
+  // By the graph, all three balls are detached (C too: f has it moving with the lid, but it touches
+  // nothing), and the walls are their driven groups' alone.
+  EXPECT_EQ(last.detached_particles, static_cast<long>(a.size() + b.size() + c.size()));
+  EXPECT_EQ(last.detached_clusters, 3);
+  EXPECT_NEAR(last.detached_volume, vol_a + vol_b + vol_c, 1e-12 * (vol_a + vol_b + vol_c));
+  EXPECT_NEAR(last.largest_detached_volume, vol_a, 1e-12 * vol_a);
+  EXPECT_EQ(last.attached_bottom_particles, base);
+  EXPECT_EQ(last.attached_top_particles, lid);
+  EXPECT_EQ(last.bridging_particles, 0);
+  EXPECT_EQ(last.bridging_clusters, 0);
+  // The third body's clusters as wear particles, largest first; no accounting here: W_t is NaN.
+  ASSERT_EQ(last.debris.size(), 2u);
+  EXPECT_EQ(last.debris[0].rank, 1);
+  EXPECT_EQ(last.debris[0].particles, static_cast<long>(a.size()));
+  EXPECT_EQ(last.debris[1].particles, static_cast<long>(b.size()));
+  EXPECT_TRUE(std::isnan(last.debris[0].tangential_work));
+  EXPECT_TRUE(std::isnan(last.contact_tangential_work));
+  EXPECT_NE(census.report().find("the energy accounting is off"), std::string::npos) << census.report();
   for (std::int64_t id : a) EXPECT_EQ(census.state_of(id), SurfaceState::third);
   for (std::int64_t id : c) EXPECT_EQ(census.state_of(id), SurfaceState::top);
   // The histogram (default bins: edges 100 x 2^((k - 1/2) / 3), a cluster of n particles of diameter 100 in
@@ -313,11 +351,204 @@ TEST(SurfaceCensus, BallsMovingWithNeitherWallAreTheThirdBody) {
     }
   }
   ASSERT_EQ(copy.samples().size(), census.samples().size());
-  for (std::size_t k = 0; k < census.samples().size(); ++k)
-    EXPECT_EQ(SurfaceCensus::row(copy.samples()[k]), SurfaceCensus::row(census.samples()[k])) << "sample " << k;
+  for (std::size_t k = 0; k < census.samples().size(); ++k) {
+    EXPECT_EQ(csv_text({SurfaceCensus::row(copy.samples()[k])}), csv_text({SurfaceCensus::row(census.samples()[k])}))
+        << "sample " << k;
+    EXPECT_EQ(csv_text(SurfaceCensus::debris_rows(copy.samples()[k])),
+              csv_text(SurfaceCensus::debris_rows(census.samples()[k])))
+        << "sample " << k;
+  }
   SurfaceCensusState broken = census.state();
   broken.history_id.pop_back();
   EXPECT_THROW(copy.restore(broken, "test"), InputError);
+  broken = census.state();
+  broken.debris.pop_back();
+  EXPECT_THROW(copy.restore(broken, "test"), InputError);
+  broken = census.state();
+  broken.debris_count.pop_back();
+  EXPECT_THROW(copy.restore(broken, "test"), InputError);
+  broken = census.state();
+  broken.joined_value.push_back(1.0);
+  EXPECT_THROW(copy.restore(broken, "test"), InputError);
+}
+
+// ---- a hand-built state: detached, attached, bridging; tangential work per cluster --------------------------
+
+// In a box of 3000 (no periodic axis): a floor of three particles (r = 50, group `floor`, touching in a row)
+// with one more (`lower`, the bottom body's label) standing on it; a lid of three (group `lid`) at height
+// `lid_y`; a cluster D of three particles (r = 40, 50, 60, label `debris`: neither body) touching each other
+// and nothing else; and a cluster T of two (r = 45, 55, label `debris`) hanging from the lid's third
+// particle. Touching is at a distance of r_i + r_j, in interaction range (eq 10's delta_f above it); the
+// test checks every other pair is out of range.
+struct HandBuilt {
+  Box box;
+  Particles particles;
+  Groups groups;
+  std::vector<std::int64_t> d, t;  // the ids of clusters D and T
+};
+
+HandBuilt hand_built(double lid_y) {
+  HandBuilt h;
+  h.box = Box(Vec3{0, 0, 0}, Vec3{3000, 3000, 3000}, {false, false, false});
+  Particles& p = h.particles;
+  p.label_names = {"lower", "upper", "debris"};
+  const int floor = h.groups.add(Group{"floor", GroupMotion::frozen});
+  const int lid = h.groups.add(Group{"lid", GroupMotion::velocity, Vec3{0, 0, 0}});
+  std::int64_t id = 1;
+  auto put = [&](double x, double y, double r, int label, int group) {
+    const std::size_t i = p.add(id++, 1, x, y, 500, r);
+    p.label[i] = label;
+    p.group[i] = group;
+    return p.id[i];
+  };
+  for (double x : {100.0, 200.0, 300.0}) put(x, 100, 50, 0, floor);
+  put(100, 200, 50, 1, -1);  // `lower`, on the floor's first particle
+  for (double x : {100.0, 200.0, 300.0}) put(x, lid_y, 50, 0, lid);
+  h.d.push_back(put(1500, 1500, 40, 3, -1));
+  h.d.push_back(put(1500 + 90, 1500, 50, 3, -1));
+  h.d.push_back(put(1500 + 90 + 110, 1500, 60, 3, -1));
+  h.t.push_back(put(300, lid_y - 95, 45, 3, -1));
+  h.t.push_back(put(300, lid_y - 95 - 100, 55, 3, -1));
+  return h;
+}
+
+SurfaceSettings hand_built_census() {
+  SurfaceSettings c;
+  c.every = 1;
+  c.bottom.labels = {"lower"};
+  c.bottom.driven = "floor";
+  c.top.labels = {"upper"};  // no particle carries it: the lid joins through `driven`
+  c.top.driven = "lid";
+  c.window = 1;
+  return c;
+}
+
+// Every pair of the hand-built state is in range exactly when the test says it touches.
+void expect_pairs_in_range(const DemSimulation& sim, long touching) {
+  const Particles& p = sim.particles();
+  const CohesiveCutoff range{sim.coefficients()};
+  long in_range = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (std::size_t j = i + 1; j < p.size(); ++j) {
+      const double d = norm(Vec3{p.x[i] - p.x[j], p.y[i] - p.y[j], p.z[i] - p.z[j]});
+      const double touch = p.radius[i] + p.radius[j];
+      if (d < range(p.radius[i], p.radius[j])) {
+        ++in_range;
+        EXPECT_NEAR(d, touch, 1e-9 * touch) << "ids " << p.id[i] << ", " << p.id[j];
+      }
+    }
+  EXPECT_EQ(in_range, touching);
+}
+
+TEST(SurfaceCensus, GraphTellsDetachedFromAttachedAndBridging) {
+  const double v_d = sphere_volume(40) + sphere_volume(50) + sphere_volume(60);  // cluster D
+  const double v_t = sphere_volume(45) + sphere_volume(55);                      // cluster T
+  DemSettings settings;
+  settings.material = table4_material();
+  settings.time_step_fraction = 0.1;
+  {
+    HandBuilt h = hand_built(2500);
+    DemSimulation sim(h.box, std::move(h.particles), std::move(h.groups), settings);
+    // Floor 2 pairs + lower 1, lid 2 + T's 2 (lid-T and T-T), D's 2.
+    expect_pairs_in_range(sim, 9);
+    SurfaceCensus census(hand_built_census(), sim);
+    const SurfaceSample& s = census.sample(sim);
+    EXPECT_EQ(s.detached_particles, 3);
+    EXPECT_EQ(s.detached_clusters, 1);
+    EXPECT_NEAR(s.detached_volume, v_d, 1e-15 * v_d);
+    EXPECT_NEAR(s.largest_detached_volume, v_d, 1e-15 * v_d);
+    EXPECT_EQ(s.attached_bottom_particles, 4);  // the floor and `lower`
+    EXPECT_EQ(s.attached_top_particles, 5);     // the lid and T
+    EXPECT_EQ(s.bridging_particles, 0);
+    EXPECT_EQ(s.bridging_clusters, 0);
+    EXPECT_EQ(s.attached_bottom_particles + s.attached_top_particles + s.bridging_particles + s.detached_particles, 12);
+    // By f (nothing moved: each in the body it starts in), D and T are both third body: two clusters.
+    EXPECT_EQ(s.third_particles, 5);
+    EXPECT_EQ(s.clusters, 2);
+    ASSERT_EQ(s.debris.size(), 2u);
+    EXPECT_NEAR(s.debris[0].volume, v_d, 1e-15 * v_d);  // D is the larger
+    EXPECT_NEAR(s.debris[1].volume, v_t, 1e-15 * v_t);
+    EXPECT_NEAR(s.debris[1].diameter, std::cbrt(6 * v_t / kPi), 1e-15 * s.debris[1].diameter);
+    EXPECT_EQ(s.debris[1].from_neither, 1.0);
+  }
+  {
+    // The lid lowered until T rests on the floor's third particle: one component holds both driven groups.
+    HandBuilt h = hand_built(100 + 105 + 100 + 95);
+    DemSimulation sim(h.box, std::move(h.particles), std::move(h.groups), settings);
+    expect_pairs_in_range(sim, 10);
+    SurfaceCensus census(hand_built_census(), sim);
+    const SurfaceSample& s = census.sample(sim);
+    EXPECT_EQ(s.bridging_particles, 9);  // floor, lower, lid, T
+    EXPECT_EQ(s.bridging_clusters, 1);
+    EXPECT_EQ(s.attached_bottom_particles, 0);
+    EXPECT_EQ(s.attached_top_particles, 0);
+    EXPECT_EQ(s.detached_particles, 3);
+    EXPECT_NEAR(s.detached_volume, v_d, 1e-15 * v_d);
+    EXPECT_NE(census.report().find("the interface still bridges: 9 particles in 1 cluster"), std::string::npos)
+        << census.report();
+  }
+}
+
+TEST(SurfaceCensus, TangentialWorkPerClusterFromTheColumns) {
+  DemSettings settings;
+  settings.material = table4_material();
+  settings.time_step_fraction = 0.1;
+  settings.energy_accounting = true;
+  HandBuilt h = hand_built(2500);
+  const std::vector<std::int64_t> d = h.d, t = h.t;
+  DemSimulation sim(h.box, std::move(h.particles), std::move(h.groups), settings);
+  auto set_work = [&](std::int64_t id, double w) {
+    Particles& p = sim.particles();
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (p.id[i] == id) p.tangential_work[i] = w;
+  };
+  // Before the first sample, where the five third-body particles join the third body: their columns then
+  // are what the clusters' W_t starts from (dyadic values: every sum below is exact).
+  set_work(d[0], 0.5);
+  set_work(d[1], 0.25);
+  set_work(d[2], 0.125);
+  set_work(t[0], 1.0);
+  set_work(t[1], 2.0);
+  set_work(1, 64.0);  // a floor particle: counts in the system's total, in no cluster
+  SurfaceCensus census(hand_built_census(), sim);
+  const SurfaceSample& first = census.sample(sim);
+  EXPECT_EQ(first.contact_tangential_work, 0.5 + 0.25 + 0.125 + 1.0 + 2.0 + 64.0);
+  ASSERT_EQ(first.debris.size(), 2u);
+  EXPECT_EQ(first.debris[0].tangential_work, 0.0);
+  EXPECT_EQ(first.debris[1].tangential_work, 0.0);
+  // Work done on them since: D 1 + 2 + 4 = 7, T 0.5 + 1.5 = 2.
+  set_work(d[0], 1.5);
+  set_work(d[1], 2.25);
+  set_work(d[2], 4.125);
+  set_work(t[0], 1.5);
+  set_work(t[1], 3.5);
+  const SurfaceSample& second = census.sample(sim);
+  ASSERT_EQ(second.debris.size(), 2u);
+  EXPECT_EQ(second.debris[0].tangential_work, 7.0);  // D, the larger
+  EXPECT_EQ(second.debris[1].tangential_work, 2.0);  // T
+  EXPECT_EQ(second.contact_tangential_work, 1.5 + 2.25 + 4.125 + 1.5 + 3.5 + 64.0);
+  // The rows of surfaces_debris.csv: step, slide, rank, particles, volume, diameter, W_t, shares.
+  const std::vector<std::vector<double>> rows = SurfaceCensus::debris_rows(second);
+  ASSERT_EQ(rows.size(), 2u);
+  ASSERT_EQ(rows[1].size(), SurfaceCensus::debris_columns().size());
+  EXPECT_EQ(rows[1][2], 2.0);
+  EXPECT_EQ(rows[1][3], 2.0);
+  EXPECT_EQ(rows[1][6], 2.0);
+  EXPECT_EQ(rows[1][9], 1.0);
+  // Two clusters: the power law through both points.
+  const double v_d = second.debris[0].volume, v_t = second.debris[1].volume;
+  const PowerFit fit = census.debris_fit();
+  ASSERT_TRUE(fit.made);
+  EXPECT_EQ(fit.points, 2);
+  EXPECT_NEAR(fit.exponent, std::log(v_d / v_t) / std::log(7.0 / 2.0), 1e-12);
+  EXPECT_NEAR(fit.prefactor, v_t / std::pow(2.0, fit.exponent), 1e-9 * fit.prefactor);
+  EXPECT_NE(census.report().find("V_d = "), std::string::npos) << census.report();
+  // The census's state carries the records of when each joined: a copy goes on as the original.
+  SurfaceCensus copy(hand_built_census(), sim);
+  copy.restore(census.state(), "test");
+  set_work(t[1], 4.5);
+  EXPECT_EQ(census.sample(sim).debris[1].tangential_work, 3.0);
+  EXPECT_EQ(copy.sample(sim).debris[1].tangential_work, 3.0);
 }
 
 TEST(SurfaceCensus, TangentialWorkAndPowerLawFit) {
@@ -368,6 +599,14 @@ TEST(SurfaceCensus, ShearedJunctionWearsAndConservesEveryParticle) {
   ASSERT_EQ(census->samples().size(), 52500u / 625 + 1);
   for (const SurfaceSample& x : census->samples()) {
     EXPECT_EQ(x.bottom_particles + x.top_particles + x.third_particles, n) << "step " << x.step;
+    // By the graph too: attached to either body, bridging or detached, every particle once.
+    EXPECT_EQ(x.attached_bottom_particles + x.attached_top_particles + x.bridging_particles + x.detached_particles, n)
+        << "step " << x.step;
+    EXPECT_LE(x.largest_detached_volume, x.detached_volume);
+    EXPECT_EQ(static_cast<long>(x.debris.size()), x.clusters) << "step " << x.step;
+    long in_clusters = 0;
+    for (const SurfaceDebris& c : x.debris) in_clusters += c.particles;
+    EXPECT_EQ(in_clusters, x.third_particles) << "step " << x.step;
     EXPECT_NEAR(x.bottom_volume + x.top_volume + x.third_volume, total, 1e-12 * total) << "step " << x.step;
     EXPECT_NEAR(x.wear_volume, x.third_volume + x.to_bottom_volume + x.to_top_volume, 1e-12 * total);
     if (x.slide >= 20e-9) EXPECT_GT(x.wear_volume, 0.0) << "step " << x.step;  // a whole window of sliding
@@ -378,6 +617,13 @@ TEST(SurfaceCensus, ShearedJunctionWearsAndConservesEveryParticle) {
   EXPECT_EQ(first.wear_volume, 0.0);
   EXPECT_GT(first.contact_area, 0.5 * kPi * 1e-16);
   EXPECT_LT(first.contact_area, 2.0 * kPi * 1e-16);
+  // The junction still joins the bodies at the first sample: one component holds both walls.
+  EXPECT_EQ(first.bridging_clusters, 1);
+  // The contact tangential work is the accounting's own sum (debris_dem runs with it on).
+  const DemSimulation& sim = dem_simulation(run.model());
+  ASSERT_TRUE(census->energy_accounting());
+  EXPECT_EQ(census->samples().back().contact_tangential_work, sim.energy_totals().tangential_work);
+  EXPECT_GT(census->samples().back().contact_tangential_work, 0.0);
   ASSERT_EQ(run.finish(), 0);
   // The file holds the samples, row for row.
   const test::NumberTable csv = test::read_number_table(d / "out" / "surfaces.csv");
@@ -385,6 +631,13 @@ TEST(SurfaceCensus, ShearedJunctionWearsAndConservesEveryParticle) {
   for (std::size_t k = 0; k < csv.rows.size(); ++k) EXPECT_EQ(csv.rows[k], SurfaceCensus::row(census->samples()[k]));
   EXPECT_EQ(test::read_csv_rows(d / "out" / "surfaces_histogram.csv").size(),
             census->samples().size() * (census->bin_edges().size() - 1));
+  const test::NumberTable debris = test::read_number_table(d / "out" / "surfaces_debris.csv");
+  EXPECT_EQ(debris.columns, SurfaceCensus::debris_columns());
+  std::vector<std::vector<double>> expected;
+  for (const SurfaceSample& x : census->samples())
+    for (const std::vector<double>& row : SurfaceCensus::debris_rows(x)) expected.push_back(row);
+  EXPECT_EQ(debris.rows, expected);
+  EXPECT_GT(debris.rows.size(), 0u);
 }
 
 // The census reads the system in id order: surfaces.csv and its histogram are the same bytes on 1 and 2
@@ -397,7 +650,7 @@ TEST(SurfaceCensus, SameFilesOnOneAndTwoThreads) {
         DEBRIS_DEM_EXECUTABLE, "-i " + input + " -o " + (d / threads).string() + " --threads " + threads);
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }
-  for (const char* file : {"surfaces.csv", "surfaces_histogram.csv"}) {
+  for (const char* file : {"surfaces.csv", "surfaces_histogram.csv", "surfaces_debris.csv"}) {
     const std::string one = test::slurp(d / "1" / file);
     EXPECT_GT(one.size(), 1000u) << file;
     EXPECT_EQ(one, test::slurp(d / "2" / file)) << file;

@@ -279,8 +279,13 @@ const ColumnTable& dem_thermo_table() {
 }
 
 std::vector<ColumnTable> dem_output_columns() {
-  return {dem_thermo_table(), WearAnalysis::table(), SurfaceCensus::table(), SurfaceCensus::histogram_table(),
-          dump_table(), side_view_table()};
+  return {dem_thermo_table(),
+          WearAnalysis::table(),
+          SurfaceCensus::table(),
+          SurfaceCensus::histogram_table(),
+          SurfaceCensus::debris_table(),
+          dump_table(),
+          side_view_table()};
 }
 
 }  // namespace debris

@@ -238,7 +238,7 @@ class DemRunModel final : public RunModel {
   }
   std::string frame_files(const std::string& suffix) const override {
     return "dump" + suffix + ".lammpstrj, trajectory" + suffix + ".xmf + .h5" + (wear_ ? ", wear.csv" : "") +
-           (surfaces_ ? ", surfaces.csv, surfaces_histogram.csv" : "") +
+           (surfaces_ ? ", surfaces.csv, surfaces_histogram.csv, surfaces_debris.csv" : "") +
            (cfg_.output.pictures ? std::string(", side_view.png, tangential_force.png") +
                                        (sim_.settings().energy_accounting ? ", energy_balance.png" : "")
                                  : "") +
@@ -323,7 +323,10 @@ class DemRunModel final : public RunModel {
     migrated_in_all_ = sim_.migrated_in_all();  // every rank closes the run: the sum is collective
     std::string report = sim_.settings().energy_accounting ? energy_report(sim_.energy_balance(sim_.diagnostics()))
                                                            : std::string();
-    if (wear_) report += (report.empty() ? "" : "\n") + wear_->report();
+    if (wear_) {  // appended piecewise: GCC 12 warns falsely (-Wrestrict) on "\n" + std::string
+      if (!report.empty()) report += '\n';
+      report += wear_->report();
+    }
     if (surfaces_) {
       if (!report.empty()) report += '\n';
       report += surfaces_->report();
@@ -364,19 +367,22 @@ class DemRunModel final : public RunModel {
       if (surfaces_csv_ && write) {
         surfaces_csv_->write_row(SurfaceCensus::row(s));
         for (const std::vector<double>& row : surfaces_->histogram_rows(s)) histogram_csv_->write_row(row);
+        for (const std::vector<double>& row : SurfaceCensus::debris_rows(s)) debris_csv_->write_row(row);
       }
     });
     surfaces_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
-  // surfaces.csv resumes as wear.csv does; surfaces_histogram.csv (several rows per sample) is written anew
-  // from the census's samples, which the checkpoint holds up to its step.
+  // surfaces.csv resumes as wear.csv does; surfaces_histogram.csv and surfaces_debris.csv (several rows per
+  // sample) are written anew from the census's samples, which the checkpoint holds up to its step.
   void open_surfaces(const std::string& dir, const std::string& suffix) {
     namespace fs = std::filesystem;
     const std::string path = (fs::path(dir) / "surfaces.csv").string();
     const std::string histogram = (fs::path(dir) / "surfaces_histogram.csv").string();
+    const std::string debris = (fs::path(dir) / "surfaces_debris.csv").string();
     if (suffix.empty()) {
       surfaces_csv_.emplace(path, SurfaceCensus::columns());
       histogram_csv_.emplace(histogram, SurfaceCensus::histogram_columns());
+      debris_csv_.emplace(debris, SurfaceCensus::debris_columns());
       sample_surfaces();
       return;
     }
@@ -387,13 +393,17 @@ class DemRunModel final : public RunModel {
     surfaces_csv_.emplace(path, SurfaceCensus::columns(), resume);
     if (!surfaces_csv_->repair_note().empty()) std::cout << surfaces_csv_->repair_note() << "\n";
     histogram_csv_.emplace(histogram, SurfaceCensus::histogram_columns());
+    debris_csv_.emplace(debris, SurfaceCensus::debris_columns());
     if (surfaces_restored_)
       for (const SurfaceSample& s : surfaces_->samples())
-        if (s.step <= sim_.step_count())
+        if (s.step <= sim_.step_count()) {
           for (const std::vector<double>& row : surfaces_->histogram_rows(s)) histogram_csv_->write_row(row);
+          for (const std::vector<double>& row : SurfaceCensus::debris_rows(s)) debris_csv_->write_row(row);
+        }
     if (!surfaces_restored_) {
-      std::cout << "surfaces: the checkpoint holds no census state; it starts afresh at the restart (its window, "
-                   "states and work count from here; surfaces_histogram.csv starts afresh)\n";
+      std::cout << "surfaces: the checkpoint holds no census state of this version; it starts afresh at the restart "
+                   "(its window, states and work count from here; surfaces_histogram.csv and surfaces_debris.csv "
+                   "start afresh)\n";
       sample_surfaces(false);
     }
   }
@@ -420,7 +430,7 @@ class DemRunModel final : public RunModel {
   bool wear_restored_ = false;
   double wear_seconds_ = 0;
   std::optional<SurfaceCensus> surfaces_;
-  std::optional<ThermoCsv> surfaces_csv_, histogram_csv_;
+  std::optional<ThermoCsv> surfaces_csv_, histogram_csv_, debris_csv_;
   bool surfaces_restored_ = false;
   double surfaces_seconds_ = 0;
 };

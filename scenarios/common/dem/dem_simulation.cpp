@@ -287,15 +287,19 @@ CohesiveDiagnostics DemSimulation::diagnostics() const {
   return cohesive_diagnostics(coef_, settings_.options, box_.view(), p_, list_, history_, sum_scope());
 }
 
-EnergyBalance DemSimulation::energy_balance(const CohesiveDiagnostics& d) const {
+EnergyTotals DemSimulation::energy_totals() const {
   particles_to_device();
+  return debris::energy_totals(p_, static_cast<int>(groups_.size()), sum_scope());
+}
+
+EnergyBalance DemSimulation::energy_balance(const CohesiveDiagnostics& d) const {
   EnergyBalance b;
   b.kinetic = totals().kinetic_energy;
   b.elastic = d.elastic_energy;
   b.kinetic0 = kinetic0_;
   b.elastic0 = elastic0_;
   b.stage_work = stage_work_;
-  b.totals = energy_totals(p_, static_cast<int>(groups_.size()), sum_scope());
+  b.totals = energy_totals();
   return b;
 }
 

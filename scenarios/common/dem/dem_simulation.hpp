@@ -206,6 +206,9 @@ class DemSimulation {
   /// The energy balance since the start of the run (collective when cut among ranks; `d`: this step's
   /// diagnostics). Only with settings().energy_accounting.
   EnergyBalance energy_balance(const CohesiveDiagnostics& d) const;
+  /// The energy accounting's cumulative columns summed over the whole system (exact sums: the same bits on
+  /// any thread or rank count; collective when cut among ranks). Only with settings().energy_accounting.
+  EnergyTotals energy_totals() const;
   /// Kinetic + elastic energy + everything dissipated so far: what a change between steps (a stage) alters
   /// by the work it does. Collective when cut among ranks.
   double energy_content() const;

@@ -4,10 +4,12 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
 #include <tuple>
+#include <type_traits>
 
 #include "core/error.hpp"
 #include "core/io/hdf5_file.hpp"
@@ -21,6 +23,7 @@ namespace debris {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr int kBottom = static_cast<int>(SurfaceState::bottom);
 constexpr int kTop = static_cast<int>(SurfaceState::top);
 constexpr int kThird = static_cast<int>(SurfaceState::third);
@@ -84,6 +87,38 @@ struct UnionFind {
     if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
   }
 };
+
+// surfaces.csv's columns in order: f(field) for each, so the row and its way back from a checkpoint cannot
+// disagree (SurfaceCensus::table() names them in the same order).
+template <class Sample, class F>
+void for_each_column(Sample& s, F&& f) {
+  f(s.step), f(s.time), f(s.slide), f(s.tangential_force), f(s.normal_force), f(s.friction_coefficient);
+  f(s.tangential_work), f(s.contact_tangential_work), f(s.contact_pairs), f(s.contact_area);
+  f(s.bottom_volume), f(s.top_volume), f(s.third_volume), f(s.to_bottom_volume), f(s.to_top_volume);
+  f(s.wear_volume), f(s.bottom_particles), f(s.top_particles), f(s.third_particles), f(s.clusters);
+  f(s.largest_volume), f(s.largest_particles), f(s.largest_diameter), f(s.largest_from_bottom);
+  f(s.largest_from_top), f(s.largest_from_neither);
+  f(s.attached_bottom_particles), f(s.attached_top_particles), f(s.bridging_particles), f(s.bridging_clusters);
+  f(s.detached_particles), f(s.detached_volume), f(s.detached_clusters), f(s.largest_detached_volume);
+  f(s.window_time), f(s.window_slide), f(s.classified);
+}
+
+// surfaces_debris.csv's values of one cluster, after the sample's step and slide.
+template <class Debris, class F>
+void for_each_debris_value(Debris& d, F&& f) {
+  f(d.rank), f(d.particles), f(d.volume), f(d.diameter), f(d.tangential_work), f(d.from_bottom), f(d.from_top);
+  f(d.from_neither);
+}
+constexpr std::size_t kDebrisValues = 8;
+
+template <class T>
+void assign_value(T& to, double v) {
+  if constexpr (std::is_same_v<T, bool>) {
+    to = v != 0;
+  } else {
+    to = static_cast<T>(v);
+  }
+}
 
 }  // namespace
 
@@ -228,7 +263,8 @@ PowerFit fit_power_law(const std::vector<double>& w, const std::vector<double>& 
   return fit;
 }
 
-SurfaceCensus::SurfaceCensus(const SurfaceSettings& settings, const DemSimulation& sim) : s_(settings) {
+SurfaceCensus::SurfaceCensus(const SurfaceSettings& settings, const DemSimulation& sim)
+    : s_(settings), energy_(sim.settings().energy_accounting) {
   const Groups& groups = sim.groups();
   const Particles& p = sim.particles();
   const std::vector<std::string>& labels = p.label_names;
@@ -347,6 +383,9 @@ const SurfaceSample& SurfaceCensus::sample(const DemSimulation& sim) {
                                                     out.top_shift, b.bottom_force, out.bottom_force, b.bottom_shift,
                                                     out.bottom_shift);
   }
+  // The contact forces' tangential work: the accounting's own exact sum of its column.
+  energy_ = sim.settings().energy_accounting;
+  out.contact_tangential_work = energy_ ? sim.energy_totals().tangential_work : kNaN;
 
   // The particles in id order: every sum below runs in it, so no storage order changes a bit.
   std::vector<std::size_t> order(n);
@@ -407,6 +446,12 @@ const SurfaceSample& SurfaceCensus::sample(const DemSimulation& sim) {
     // A particle the census has not seen (none is added during a run): with neither body.
     st[i] = it == state_.end() ? kThird : it->second;
     origin[i] = o == origin_.end() ? kThird : o->second;
+    // Each third-body particle's tangential_work when it joined the third body: now, if it just did (or
+    // starts there); forgotten when it leaves.
+    if (st[i] == kThird)
+      joined_.try_emplace(p.id[i], p.tangential_work[i]);
+    else
+      joined_.erase(p.id[i]);
   }
 
   // 2. Pairs in interaction range now (as the junction analysis decides it): third-body pairs join clusters,
@@ -415,6 +460,7 @@ const SurfaceSample& SurfaceCensus::sample(const DemSimulation& sim) {
   const double area_n = sim.coefficients().area_n;
   const NeighborList& list = sim.neighbors();
   UnionFind clusters(n);  // over ranks (id order), so the roots do not depend on the storage order
+  UnionFind whole(n);     // the same over all pairs in range, whatever the states: attached or detached
   std::vector<std::tuple<std::int64_t, std::int64_t, double>> contacts;
   for (int i = 0; i < list.rows(); ++i) {
     const std::size_t a = static_cast<std::size_t>(i);
@@ -423,6 +469,7 @@ const SurfaceSample& SurfaceCensus::sample(const DemSimulation& sim) {
       if (b <= a && list.kind() == NeighborKind::full) continue;  // a full list holds each pair twice
       const Vec3 d = minimum_image(bv, Vec3{p.x[a] - p.x[b], p.y[a] - p.y[b], p.z[a] - p.z[b]});
       if (norm(d) >= range(p.radius[a], p.radius[b])) continue;
+      whole.unite(rank[a], rank[b]);
       if (st[a] == kThird && st[b] == kThird) {
         clusters.unite(rank[a], rank[b]);
       } else if ((st[a] == kBottom && st[b] == kTop) || (st[a] == kTop && st[b] == kBottom)) {
@@ -439,6 +486,7 @@ const SurfaceSample& SurfaceCensus::sample(const DemSimulation& sim) {
 
   // 3. Volumes, transfer and the third body's clusters, in id order.
   std::vector<double> cluster_volume(n, 0.0), from_bottom(n, 0.0), from_top(n, 0.0), from_neither(n, 0.0);
+  std::vector<double> cluster_work(n, 0.0);
   std::vector<long> cluster_count(n, 0);
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t i = order[k];
@@ -458,6 +506,7 @@ const SurfaceSample& SurfaceCensus::sample(const DemSimulation& sim) {
       cluster_volume[r] += v;
       ++cluster_count[r];
       (origin[i] == kBottom ? from_bottom : origin[i] == kTop ? from_top : from_neither)[r] += v;
+      cluster_work[r] += p.tangential_work[i] - joined_.at(p.id[i]);
     }
   }
   out.wear_volume = out.third_volume + out.to_bottom_volume + out.to_top_volume;
@@ -475,6 +524,22 @@ const SurfaceSample& SurfaceCensus::sample(const DemSimulation& sim) {
     out.bin_clusters[bin] += 1;
     out.bin_volume[bin] += cluster_volume[r];
   }
+  // The clusters as wear particles, largest first (equal volumes: in the order of their smallest ids).
+  for (std::size_t r = 0; r < n; ++r) {
+    if (cluster_count[r] == 0) continue;
+    SurfaceDebris c;
+    c.particles = cluster_count[r];
+    c.volume = cluster_volume[r];
+    c.diameter = equivalent_diameter(c.volume);
+    c.tangential_work = energy_ ? cluster_work[r] : kNaN;
+    c.from_bottom = from_bottom[r] / c.volume;
+    c.from_top = from_top[r] / c.volume;
+    c.from_neither = from_neither[r] / c.volume;
+    out.debris.push_back(c);
+  }
+  std::stable_sort(out.debris.begin(), out.debris.end(),
+                   [](const SurfaceDebris& a, const SurfaceDebris& b) { return a.volume > b.volume; });
+  for (std::size_t k = 0; k < out.debris.size(); ++k) out.debris[k].rank = static_cast<long>(k) + 1;
   if (largest < n) {
     out.largest_volume = cluster_volume[largest];
     out.largest_particles = cluster_count[largest];
@@ -483,6 +548,37 @@ const SurfaceSample& SurfaceCensus::sample(const DemSimulation& sim) {
     out.largest_from_top = from_top[largest] / cluster_volume[largest];
     out.largest_from_neither = from_neither[largest] / cluster_volume[largest];
   }
+
+  // 4. Attached or detached, by the graph of all pairs in range: which driven groups each component holds.
+  std::vector<char> holds_bottom(n, 0), holds_top(n, 0);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t i = order[k];
+    const std::size_t r = static_cast<std::size_t>(whole.find(static_cast<int>(k)));
+    if (p.group[i] == bottom_driven_) holds_bottom[r] = 1;
+    if (p.group[i] == top_driven_) holds_top[r] = 1;
+  }
+  std::vector<double> component_volume(n, 0.0);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t i = order[k];
+    const std::size_t r = static_cast<std::size_t>(whole.find(static_cast<int>(k)));
+    const bool root = r == k;  // a component's root is its first member in id order
+    if (holds_bottom[r] && holds_top[r]) {
+      ++out.bridging_particles;
+      out.bridging_clusters += root;
+    } else if (holds_bottom[r]) {
+      ++out.attached_bottom_particles;
+    } else if (holds_top[r]) {
+      ++out.attached_top_particles;
+    } else {
+      const double v = sphere_volume(p.radius[i]);
+      ++out.detached_particles;
+      out.detached_clusters += root;
+      out.detached_volume += v;
+      component_volume[r] += v;
+    }
+  }
+  for (std::size_t r = 0; r < n; ++r)
+    out.largest_detached_volume = std::max(out.largest_detached_volume, component_volume[r]);
   samples_.push_back(std::move(out));
   return samples_.back();
 }
@@ -493,7 +589,8 @@ const ColumnTable& SurfaceCensus::table() {
       "One row every `surfaces.every` steps: the census of the interface (`surfaces:` section). The states bottom, "
       "top and third body come from f, each particle's displacement along the slide over the window as a "
       "fraction of the top driven group's (both relative to the bottom driven group's); the clusters from the "
-      "graph of pairs in interaction range among third-body particles.",
+      "graph of pairs in interaction range among third-body particles; attached, bridging and detached from the "
+      "graph of pairs in range among all particles, whatever their f (README: which columns use which).",
       {
           {"step", "-", "time step number", ""},
           {"time", "s", "simulated time", ""},
@@ -507,6 +604,11 @@ const ColumnTable& SurfaceCensus::table() {
           {"tangential_work", "J",
            "work the drives did along the slide since the first sample: minus each driven group's reaction times "
            "its displacement, trapezoid between samples",
+           ""},
+          {"contact_tangential_work", "J",
+           "work the pairs' relative motion did against their tangential forces over the whole system since the "
+           "start: the sum of the energy accounting's per-particle tangential_work, exact at every step (NaN with "
+           "`output.energy: false`)",
            ""},
           {"contact_pairs", "-",
            "pairs in interaction range joining a particle of the bottom body to one of the top body (by state)", ""},
@@ -528,6 +630,19 @@ const ColumnTable& SurfaceCensus::table() {
           {"largest_from_bottom", "-", "share of its volume that started in the bottom body", ""},
           {"largest_from_top", "-", "share of its volume that started in the top body", ""},
           {"largest_from_neither", "-", "share of its volume that started in neither body", ""},
+          {"attached_bottom_particles", "-",
+           "particles connected by pairs in range to the bottom driven group and not to the top one (any f)", ""},
+          {"attached_top_particles", "-",
+           "particles connected by pairs in range to the top driven group and not to the bottom one (any f)", ""},
+          {"bridging_particles", "-",
+           "particles connected by pairs in range to both driven groups: the interface still holds together "
+           "through them",
+           ""},
+          {"bridging_clusters", "-", "the connected components holding members of both driven groups", ""},
+          {"detached_particles", "-", "particles connected by pairs in range to neither driven group (any f)", ""},
+          {"detached_volume", "m^3", "their volume (4/3 pi r^3 summed)", ""},
+          {"detached_clusters", "-", "the components they form: the detached wear particles", ""},
+          {"largest_detached_volume", "m^3", "volume of the largest of them (0: none)", ""},
           {"window_time", "s", "the time f's displacements span: the window, or less before it has filled", ""},
           {"window_slide", "m", "the driven groups' relative slide over that time", ""},
           {"classified", "-",
@@ -539,12 +654,10 @@ const ColumnTable& SurfaceCensus::table() {
 }
 
 std::vector<double> SurfaceCensus::row(const SurfaceSample& s) {
-  return {static_cast<double>(s.step), s.time, s.slide, s.tangential_force, s.normal_force, s.friction_coefficient,
-          s.tangential_work, static_cast<double>(s.contact_pairs), s.contact_area, s.bottom_volume, s.top_volume,
-          s.third_volume, s.to_bottom_volume, s.to_top_volume, s.wear_volume, static_cast<double>(s.bottom_particles),
-          static_cast<double>(s.top_particles), static_cast<double>(s.third_particles), static_cast<double>(s.clusters),
-          s.largest_volume, static_cast<double>(s.largest_particles), s.largest_diameter, s.largest_from_bottom,
-          s.largest_from_top, s.largest_from_neither, s.window_time, s.window_slide, s.classified ? 1.0 : 0.0};
+  std::vector<double> v;
+  v.reserve(table().columns.size());
+  for_each_column(s, [&](const auto& x) { v.push_back(static_cast<double>(x)); });
+  return v;
 }
 
 const ColumnTable& SurfaceCensus::histogram_table() {
@@ -571,6 +684,50 @@ std::vector<std::vector<double>> SurfaceCensus::histogram_rows(const SurfaceSamp
                     k < s.bin_clusters.size() ? s.bin_clusters[k] : 0.0,
                     k < s.bin_volume.size() ? s.bin_volume[k] : 0.0});
   return rows;
+}
+
+const ColumnTable& SurfaceCensus::debris_table() {
+  static const ColumnTable t{
+      "surfaces_debris.csv",
+      "With `surfaces:`, one row per sample and third-body cluster (by f: the third body's particles joined by "
+      "pairs in range), largest first: the wear particles with the tangential work done on them, for V_d against "
+      "W_t (Garcia-Suarez et al. 2023: V_d ~ W_t^(3/2) in 3D).",
+      {
+          {"step", "-", "time step number of the sample", ""},
+          {"slide", "m", "the sample's sliding distance (surfaces.csv's slide)", ""},
+          {"rank", "-", "the cluster's rank by volume in its sample, 1 for the largest", ""},
+          {"particles", "-", "its particles", ""},
+          {"volume", "m^3", "its volume V_d (4/3 pi r^3 summed)", ""},
+          {"diameter", "m", "its equivalent diameter (6 V_d / pi)^(1/3)", ""},
+          {"tangential_work", "J",
+           "W_t: its members' tangential_work (the energy accounting's per-particle column) since each joined the "
+           "third body, summed (NaN with `output.energy: false`)",
+           ""},
+          {"from_bottom", "-", "share of its volume that started in the bottom body", ""},
+          {"from_top", "-", "share of its volume that started in the top body", ""},
+          {"from_neither", "-", "share of its volume that started in neither body", ""},
+      }};
+  return t;
+}
+
+std::vector<std::vector<double>> SurfaceCensus::debris_rows(const SurfaceSample& s) {
+  std::vector<std::vector<double>> rows;
+  for (const SurfaceDebris& d : s.debris) {
+    std::vector<double> row{static_cast<double>(s.step), s.slide};
+    for_each_debris_value(d, [&](const auto& x) { row.push_back(static_cast<double>(x)); });
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+PowerFit SurfaceCensus::debris_fit() const {
+  std::vector<double> w, v;
+  if (!samples_.empty() && energy_)
+    for (const SurfaceDebris& d : samples_.back().debris) {
+      w.push_back(d.tangential_work);
+      v.push_back(d.volume);
+    }
+  return fit_power_law(w, v);
 }
 
 PowerFit SurfaceCensus::wear_fit() const {
@@ -602,13 +759,37 @@ std::string SurfaceCensus::report() const {
     if (x.slide != 0) mu += x.friction_coefficient, ++sliding;
   os << "surfaces: friction coefficient " << l.friction_coefficient;
   if (sliding > 0) os << " (mean over the " << sliding << " samples since the slide began " << mu / sliding << ")";
-  os << ", real contact area " << l.contact_area
-     << " m^2 over " << l.contact_pairs << " pairs, tangential work " << l.tangential_work << " J";
+  os << ", real contact area " << l.contact_area << " m^2 over " << l.contact_pairs << " pairs, tangential work "
+     << l.tangential_work << " J by the drives";
+  if (energy_) os << ", " << l.contact_tangential_work << " J against the contacts' tangential forces";
   const PowerFit fit = wear_fit();
   if (fit.made)
     os << "; wear volume ~ W_t^" << fit.exponent << " (least squares in log-log over " << fit.points << " samples)";
   else
     os << "; too few samples with wear and work for a power law";
+  // By the graph of all pairs in range.
+  os << "\nsurfaces: by the pairs in range, " << l.detached_particles << " particles (" << l.detached_volume
+     << " m^3) are detached in " << l.detached_clusters
+     << (l.detached_clusters == 1 ? " wear particle" : " wear particles");
+  if (l.detached_clusters > 0) os << " (the largest " << l.largest_detached_volume << " m^3)";
+  os << "; " << l.attached_bottom_particles << " are attached to the bottom body, " << l.attached_top_particles
+     << " to the top body";
+  if (l.bridging_clusters > 0)
+    os << "; the interface still bridges: " << l.bridging_particles << " particles in " << l.bridging_clusters
+       << (l.bridging_clusters == 1 ? " cluster" : " clusters") << " holding both driven groups";
+  else
+    os << "; nothing bridges the two bodies";
+  // Each wear particle's volume against the tangential work done on it (the last sample's clusters).
+  os << "\nsurfaces: wear particles against their tangential work (surfaces_debris.csv): ";
+  const PowerFit d = debris_fit();
+  if (!energy_)
+    os << "no W_t, the energy accounting is off (`output.energy: false`): the particles' tangential_work column "
+          "is not kept, so surfaces_debris.csv's tangential_work is NaN and no V_d(W_t) is fitted";
+  else if (d.made)
+    os << "V_d = " << d.prefactor << " W_t^" << d.exponent << " (SI; least squares in log-log over the last sample's "
+       << d.points << " clusters with W_t > 0; Garcia-Suarez et al. 2023 find 3/2 in 3D)";
+  else
+    os << "too few of the last sample's clusters (" << d.points << ") with W_t > 0 and different W_t for a power law";
   if (!l.classified)
     os << "\nsurfaces: the states of the last sample are those of an earlier one: the driven groups slid "
        << l.window_slide << " m over its window, less than min_slide (" << min_slide_ << " m)";
@@ -617,8 +798,9 @@ std::string SurfaceCensus::report() const {
 
 namespace {
 
-// The values of a sample in a checkpoint: its row, the work's carry-over, its histogram.
-constexpr std::size_t kRowValues = 28;
+// The values of a sample in a checkpoint: its row, the work's carry-over, its histogram (its clusters go
+// apart, as many as it has).
+std::size_t row_values() { return SurfaceCensus::table().columns.size(); }
 constexpr std::size_t kExtraValues = 3;
 
 std::vector<double> sample_values(const SurfaceSample& s) {
@@ -631,39 +813,14 @@ std::vector<double> sample_values(const SurfaceSample& s) {
 
 SurfaceSample sample_from(const double* v, std::size_t bins) {
   SurfaceSample s;
-  s.step = static_cast<long>(v[0]);
-  s.time = v[1];
-  s.slide = v[2];
-  s.tangential_force = v[3];
-  s.normal_force = v[4];
-  s.friction_coefficient = v[5];
-  s.tangential_work = v[6];
-  s.contact_pairs = static_cast<long>(v[7]);
-  s.contact_area = v[8];
-  s.bottom_volume = v[9];
-  s.top_volume = v[10];
-  s.third_volume = v[11];
-  s.to_bottom_volume = v[12];
-  s.to_top_volume = v[13];
-  s.wear_volume = v[14];
-  s.bottom_particles = static_cast<long>(v[15]);
-  s.top_particles = static_cast<long>(v[16]);
-  s.third_particles = static_cast<long>(v[17]);
-  s.clusters = static_cast<long>(v[18]);
-  s.largest_volume = v[19];
-  s.largest_particles = static_cast<long>(v[20]);
-  s.largest_diameter = v[21];
-  s.largest_from_bottom = v[22];
-  s.largest_from_top = v[23];
-  s.largest_from_neither = v[24];
-  s.window_time = v[25];
-  s.window_slide = v[26];
-  s.classified = v[27] != 0;
-  s.top_shift = v[28];
-  s.bottom_force = v[29];
-  s.bottom_shift = v[30];
-  s.bin_clusters.assign(v + kRowValues + kExtraValues, v + kRowValues + kExtraValues + bins);
-  s.bin_volume.assign(v + kRowValues + kExtraValues + bins, v + kRowValues + kExtraValues + 2 * bins);
+  std::size_t k = 0;
+  for_each_column(s, [&](auto& x) { assign_value(x, v[k++]); });
+  s.top_shift = v[k];
+  s.bottom_force = v[k + 1];
+  s.bottom_shift = v[k + 2];
+  k += kExtraValues;
+  s.bin_clusters.assign(v + k, v + k + bins);
+  s.bin_volume.assign(v + k + bins, v + k + 2 * bins);
   return s;
 }
 
@@ -693,6 +850,17 @@ SurfaceCensusState SurfaceCensus::state() const {
     st.samples.insert(st.samples.end(), v.begin(), v.end());
   }
   st.sample_count = samples_.size();
+  std::vector<std::pair<std::int64_t, double>> joined(joined_.begin(), joined_.end());
+  std::sort(joined.begin(), joined.end());
+  for (const auto& [id, w] : joined) {
+    st.joined_id.push_back(id);
+    st.joined_value.push_back(w);
+  }
+  for (const SurfaceSample& s : samples_) {
+    st.debris_count.push_back(static_cast<std::int64_t>(s.debris.size()));
+    for (const SurfaceDebris& d : s.debris)
+      for_each_debris_value(d, [&](const auto& x) { st.debris.push_back(static_cast<double>(x)); });
+  }
   return st;
 }
 
@@ -714,9 +882,18 @@ void SurfaceCensus::restore(const SurfaceCensusState& st, const std::string& pat
   for (std::size_t k = 1; k < st.bin_edges.size() && edges_ok; ++k) edges_ok = st.bin_edges[k] > st.bin_edges[k - 1];
   check(edges_ok, "bin_edges are not at least two increasing values");
   const std::size_t bins = st.bin_edges.size() - 1;
-  const std::size_t per_sample = kRowValues + kExtraValues + 2 * bins;
+  const std::size_t per_sample = row_values() + kExtraValues + 2 * bins;
   check(st.samples.size() == per_sample * st.sample_count,
         "samples do not hold " + std::to_string(per_sample) + " values per sample");
+  check(st.joined_id.size() == st.joined_value.size(), "joined_id and joined_value differ in length");
+  check(st.debris_count.size() == st.sample_count, "debris_count does not hold one count per sample");
+  std::int64_t clusters = 0;
+  for (std::int64_t c : st.debris_count) {
+    check(c >= 0, "debris_count holds a negative count");
+    clusters += c;
+  }
+  check(st.debris.size() == kDebrisValues * static_cast<std::size_t>(clusters),
+        "debris does not hold " + std::to_string(kDebrisValues) + " values per cluster of debris_count");
   std::unordered_map<std::int64_t, int> states;
   for (std::size_t k = 0; k < st.state_id.size(); ++k) states[st.state_id[k]] = static_cast<int>(st.state_value[k]);
   std::deque<std::pair<double, std::unordered_map<std::int64_t, Vec3>>> history;
@@ -730,12 +907,23 @@ void SurfaceCensus::restore(const SurfaceCensusState& st, const std::string& pat
     history.emplace_back(st.history_time[s], std::move(positions));
   }
   std::vector<SurfaceSample> samples;
-  for (std::size_t k = 0; k < st.sample_count; ++k) samples.push_back(sample_from(&st.samples[per_sample * k], bins));
+  std::size_t value = 0;
+  for (std::size_t k = 0; k < st.sample_count; ++k) {
+    samples.push_back(sample_from(&st.samples[per_sample * k], bins));
+    for (std::int64_t c = 0; c < st.debris_count[k]; ++c) {
+      SurfaceDebris d;
+      for_each_debris_value(d, [&](auto& x) { assign_value(x, st.debris[value++]); });
+      samples.back().debris.push_back(d);
+    }
+  }
+  std::unordered_map<std::int64_t, double> joined;
+  for (std::size_t k = 0; k < st.joined_id.size(); ++k) joined[st.joined_id[k]] = st.joined_value[k];
   // Particles the checkpoint does not name keep the state they start with.
   for (const auto& [id, value] : states) state_[id] = value;
   edges_ = st.bin_edges;
   history_ = std::move(history);
   samples_ = std::move(samples);
+  joined_ = std::move(joined);
 }
 
 void write_surface_state(h5::Location& at, const SurfaceCensusState& st) {
@@ -749,11 +937,18 @@ void write_surface_state(h5::Location& at, const SurfaceCensusState& st) {
   g.write("bin_edges", st.bin_edges);
   g.write("samples", st.samples);
   g.write_scalar<std::int64_t>("sample_count", static_cast<std::int64_t>(st.sample_count));
+  g.write("joined_id", st.joined_id);
+  g.write("joined_value", st.joined_value);
+  g.write("debris_count", st.debris_count);
+  g.write("debris", st.debris);
 }
 
 std::optional<SurfaceCensusState> read_surface_state(const h5::Location& at) {
   if (!at.has("surfaces")) return std::nullopt;
   const h5::Group g = at.open_group("surfaces");
+  // A census written before 2026-12-07 (no graph columns, no tangential work per cluster): its samples do not fit
+  // this version's rows, so the census starts afresh as from a checkpoint without one.
+  if (!g.has("joined_id")) return std::nullopt;
   SurfaceCensusState st;
   st.state_id = g.read<std::int64_t>("state_id").values;
   st.state_value = g.read<std::int64_t>("state_value").values;
@@ -766,8 +961,43 @@ std::optional<SurfaceCensusState> read_surface_state(const h5::Location& at) {
   const auto count = g.read_scalar<std::int64_t>("sample_count");
   if (count < 0) throw std::runtime_error("surfaces/sample_count is negative");
   st.sample_count = static_cast<std::size_t>(count);
+  st.joined_id = g.read<std::int64_t>("joined_id").values;
+  st.joined_value = g.read<double>("joined_value").values;
+  st.debris_count = g.read<std::int64_t>("debris_count").values;
+  st.debris = g.read<double>("debris").values;
   return st;
 }
+
+namespace {
+
+// gnuplot's text for a power law V = c W^b drawn in the pictures' units (V' = V volume, W' = W energy:
+// V' = c volume energy^-b W'^b), and its exponent for a title.
+struct FitText {
+  std::string function, exponent;
+};
+FitText fit_text(const PowerFit& fit, double volume, double energy) {
+  std::ostringstream prefactor, power, exponent;
+  prefactor.precision(17);
+  power.precision(17);
+  exponent.precision(4);
+  prefactor << fit.prefactor * volume * std::pow(energy, -fit.exponent);
+  power << fit.exponent;
+  exponent << fit.exponent;
+  return {prefactor.str() + " * x ** " + power.str(), exponent.str()};
+}
+
+// A panel with nothing to draw on a log scale (gnuplot refuses a plot without a point): its title and a line
+// saying why, on empty axes.
+void empty_panel(std::ostream& script, const std::string& title, const std::string& why) {
+  script << "unset logscale\n"
+         << "set title '" << title << "' noenhanced\n"
+         << "set xrange [0:1]\nset yrange [0:1]\n"
+         << "set label 1 '" << why << "' at graph 0.5, 0.5 center noenhanced\n"
+         << "plot 2 notitle\n"
+         << "unset label 1\nset autoscale xy\n";
+}
+
+}  // namespace
 
 std::string draw_surface_pictures(const std::string& dir, const SurfaceCensus& census, const PictureUnits& u) {
   namespace fs = std::filesystem;
@@ -779,10 +1009,10 @@ std::string draw_surface_pictures(const std::string& dir, const SurfaceCensus& c
   const PowerFit fit = census.wear_fit();
   std::ofstream script(d / "surfaces.gp");
   script << "# debris_dem's wear census pictures: run `gnuplot surfaces.gp` in this directory.\n"
-         << "set terminal pngcairo size 1200,900 font ',11'\n"
+         << "set terminal pngcairo size 1200,1350 font ',11'\n"
          << "set output 'surfaces.png'\n"
          << "set datafile separator ','\n"
-         << "set multiplot layout 2,2\n"
+         << "set multiplot layout 3,2\n"
          << "set key bottom right\n"
          << "set title 'wear volume against the slide' noenhanced\n"
          << "set xlabel 'sliding distance (" << length_name << ")'\n"
@@ -792,31 +1022,29 @@ std::string draw_surface_pictures(const std::string& dir, const SurfaceCensus& c
          << "):(column('third_volume') * " << volume << ") with lines title 'third body', '' using (column('slide') * "
          << u.length << "):((column('transferred_to_bottom') + column('transferred_to_top')) * " << volume
          << ") with lines title 'transferred'\n"
-         << "set logscale xy\n"
          << "set xlabel 'tangential work (" << energy_name << ")' noenhanced\n"
          << "# the samples with wear and work (a log scale has no place for 0)\n"
          << "both(w, v) = w > 0 && v > 0\n";
-  if (fit.made) {
-    // V = c W^b in the pictures' units: V' = V volume and W' = W energy, so V' = c volume energy^-b W'^b.
-    std::ostringstream prefactor, power, exponent;
-    prefactor.precision(17);
-    power.precision(17);
-    exponent.precision(4);
-    prefactor << fit.prefactor * volume * std::pow(energy, -fit.exponent);
-    power << fit.exponent;
-    exponent << fit.exponent;
-    script << "set title 'wear volume against tangential work: exponent " << exponent.str() << " (" << fit.points
-           << " samples)' noenhanced\n"
-           << "fit_line(w) = " << prefactor.str() << " * w ** " << power.str() << "\n"
-           << "plot 'surfaces.csv' using (both(column('tangential_work'), column('wear_volume')) ? "
-           << "column('tangential_work') * " << energy << " : 1/0):(column('wear_volume') * " << volume
-           << ") with points pt 7 ps 0.6 title 'samples', fit_line(x) with lines lw 2 title 'least-squares power law' "
-           << "noenhanced\n";
+  if (fit.points == 0) {
+    empty_panel(script, "wear volume against tangential work", "no sample with both wear and work yet");
   } else {
-    script << "set title 'wear volume against tangential work: too few samples for a fit' noenhanced\n"
-           << "plot 'surfaces.csv' using (both(column('tangential_work'), column('wear_volume')) ? "
-           << "column('tangential_work') * " << energy << " : 1/0):(column('wear_volume') * " << volume
-           << ") with points pt 7 ps 0.6 title 'samples'\n";
+    script << "set logscale xy\n";
+    if (fit.made) {
+      const FitText f = fit_text(fit, volume, energy);
+      script
+          << "set title 'wear volume against tangential work: exponent " << f.exponent << " (" << fit.points
+          << " samples)' noenhanced\n"
+          << "fit_line(x) = " << f.function << "\n"
+          << "plot 'surfaces.csv' using (both(column('tangential_work'), column('wear_volume')) ? "
+          << "column('tangential_work') * " << energy << " : 1/0):(column('wear_volume') * " << volume
+          << ") with points pt 7 ps 0.6 title 'samples', fit_line(x) with lines lw 2 title 'least-squares power law' "
+          << "noenhanced\n";
+    } else {
+      script << "set title 'wear volume against tangential work: too few samples for a fit' noenhanced\n"
+             << "plot 'surfaces.csv' using (both(column('tangential_work'), column('wear_volume')) ? "
+             << "column('tangential_work') * " << energy << " : 1/0):(column('wear_volume') * " << volume
+             << ") with points pt 7 ps 0.6 title 'samples'\n";
+    }
   }
   script << "unset logscale\n"
          << "set key off\n"
@@ -830,7 +1058,44 @@ std::string draw_surface_pictures(const std::string& dir, const SurfaceCensus& c
          << "set ylabel 'area (" << area_name << ")' noenhanced\n"
          << "plot 'surfaces.csv' using (column('slide') * " << u.length << "):(column('contact_area') * " << area
          << ") with lines lw 2\n"
-         << "unset multiplot\n";
+         << "# the two definitions of worn material side by side: f (third body) and the graph (detached)\n"
+         << "set key top left\n"
+         << "set title 'third body (by f), detached (by the pairs in range)' noenhanced\n"
+         << "set ylabel 'volume (" << volume_name << ")' noenhanced\n"
+         << "plot 'surfaces.csv' using (column('slide') * " << u.length << "):(column('third_volume') * " << volume
+         << ") with lines lw 2 title 'third body', '' using (column('slide') * " << u.length
+         << "):(column('detached_volume') * " << volume << ") with lines lw 2 title 'detached', '' using "
+         << "(column('slide') * " << u.length << "):(column('largest_detached_volume') * " << volume
+         << ") with lines title 'largest detached'\n";
+  // The last sample's wear particles: V_d against W_t (surfaces_debris.csv).
+  const PowerFit debris = census.debris_fit();
+  const long last = census.samples().empty() ? -1 : census.samples().back().step;
+  script << "set key bottom right\n"
+         << "set xlabel 'tangential work on the particle W_t (" << energy_name << ")' noenhanced\n"
+         << "set ylabel 'its volume V_d (" << volume_name << ")' noenhanced\n";
+  if (!census.energy_accounting()) {
+    empty_panel(script, "wear particles: V_d against W_t",
+                "no W_t: the energy accounting is off (output.energy: false)");
+  } else if (debris.points == 0) {
+    empty_panel(script, "wear particles: V_d against W_t", "no third-body cluster with W_t > 0 at the last sample");
+  } else {
+    script << "set logscale xy\n";
+    const std::string title = "wear particles at step " + std::to_string(last) + ": ";
+    if (debris.made) {
+      const FitText f = fit_text(debris, volume, energy);
+      script << "set title '" << title << "V_d ~ W_t^" << f.exponent << " (" << debris.points
+             << " clusters; 3D theory: 3/2)' noenhanced\n"
+             << "debris_line(x) = " << f.function << "\n";
+    } else {
+      script << "set title '" << title << "too few for a fit of V_d(W_t)' noenhanced\n";
+    }
+    script << "plot 'surfaces_debris.csv' using (column('step') == " << last
+           << " && column('tangential_work') > 0 ? column('tangential_work') * " << energy
+           << " : 1/0):(column('volume') * " << volume << ") with points pt 7 ps 0.8 title 'third-body clusters'"
+           << (debris.made ? ", debris_line(x) with lines lw 2 title 'least-squares power law' noenhanced" : "") << "\n"
+           << "unset logscale\n";
+  }
+  script << "unset multiplot\n";
   script.close();
   if (!script) return "pictures: cannot write " + (d / "surfaces.gp").string();
   const GnuplotRun run = run_gnuplot(dir, "surfaces.gp", "surfaces.log");

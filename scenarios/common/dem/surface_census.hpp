@@ -19,15 +19,39 @@
 // range"), restricted to third-body particles; each connected component is a cluster, with its volume
 // (4/3 pi r^3 summed), its equivalent diameter (6 V / pi)^(1/3), and a size histogram of them per sample.
 //
+// Attached or detached, by the graph alone: the same pairs in range over all particles, whatever their state.
+// A connected component holding a member of a body's driven group is attached to that body; one holding
+// members of both driven groups bridges the interface (the bodies still hold together through it: counted
+// apart, in bridging_*); every other component is a detached wear particle (detached_*).
+// Why both definitions: f cannot tell a shear band (attached to a body, f spread between 0 and 1) from debris
+// (detached), and the graph cannot tell a debris particle rolling in contact with a surface (in range of it:
+// attached) from one stuck to it. So the f-based columns (bottom_*, top_*, third_*, transferred_*,
+// wear_volume, clusters, largest_*, the histogram and surfaces_debris.csv) and the graph-based ones
+// (attached_*, bridging_*, detached_*) stand side by side; README's census section says which is which.
+//
+// The tangential work of a wear particle (Garcia-Suarez et al., JMPS 2023: a debris particle's volume grows
+// as W_t^(3/2) in 3D): each particle's `tangential_work` column (the energy accounting's half of each of its
+// pairs' work of the tangential force) is recorded, by id, at the sample where it becomes third body (by f;
+// for a particle that starts with neither body, at the first sample), and forgotten when it leaves the third
+// body. A third-body cluster's W_t is the sum over its members of their column now less that record.
+// surfaces_debris.csv holds one row per cluster and sample (rank by volume, particles, volume, equivalent
+// diameter, W_t, shares by origin), and V_d = c W_t^a is fitted over the last sample's clusters with
+// W_t > 0 (report(), surfaces.png). With the accounting off (`output.energy: false`) the columns are all 0:
+// W_t is written as NaN (the file keeps its columns in every run) and the report says why there is no fit.
+//
 // What the interface carries: the top driven group's reaction along the slide and the normal (their ratio,
-// the friction coefficient), the tangential work the drives did along the slide so far, and the real contact
-// area: the pairs in range joining a particle moving with the bottom body to one moving with the top body,
-// each with its contact cross-section A_N of eqs 14-15.
+// the friction coefficient), the tangential work the drives did along the slide so far (the trapezoid
+// between samples), the contact tangential work (the energy accounting's own exact sum of its
+// `tangential_work` column: the work the pairs' relative motion did against their tangential forces, over
+// every pair of the system, at every step; the drives' work pays for it and for everything else too: normal
+// damping, elastic and kinetic energy), and the real contact area: the pairs in range joining a particle
+// moving with the bottom body to one moving with the top body, each with its contact cross-section A_N of
+// eqs 14-15.
 //
 // Every sum runs over the particles (or pairs) in id order, so the rows are the same bits whatever the
 // storage order (thread count, a restart's re-sort). The census's state (each particle's state, the
-// window's positions, the bins, every sample so far) goes into every checkpoint (state() / restore()), so a
-// chunked run writes the files of the run in one piece.
+// window's positions, the bins, the tangential work at joining, every sample so far with its clusters) goes
+// into every checkpoint (state() / restore()), so a chunked run writes the files of the run in one piece.
 #include <cstdint>
 #include <deque>
 #include <optional>
@@ -76,7 +100,16 @@ void check_surface_window(const SurfaceSettings& settings, double run_time);
 
 enum class SurfaceState : int { bottom = 0, top = 1, third = 2 };
 
-/// One sample: the surfaces.csv row, and the histogram's rows.
+/// One third-body cluster (a wear particle by f) at one sample: a row of surfaces_debris.csv.
+struct SurfaceDebris {
+  long rank = 0;  // 1 for the largest volume of its sample (equal volumes: the one holding the smaller id first)
+  long particles = 0;
+  double volume = 0, diameter = 0;
+  double tangential_work = 0;  // J: its members' tangential_work since each joined the third body (NaN: no accounting)
+  double from_bottom = 0, from_top = 0, from_neither = 0;  // shares of its volume by the body they started in
+};
+
+/// One sample: the surfaces.csv row, and the histogram's and surfaces_debris.csv's rows.
 struct SurfaceSample {
   long step = 0;
   double time = 0;
@@ -85,6 +118,7 @@ struct SurfaceSample {
   double normal_force = 0;      // ... along the normal
   double friction_coefficient = 0;
   double tangential_work = 0;  // J, accumulated over the samples (tangential_work_increment)
+  double contact_tangential_work = 0;  // J, the accounting's sum of the tangential_work column (NaN: it is off)
   long contact_pairs = 0;
   double contact_area = 0;
   double bottom_volume = 0, top_volume = 0, third_volume = 0;
@@ -96,6 +130,12 @@ struct SurfaceSample {
   long largest_particles = 0;
   double largest_diameter = 0;
   double largest_from_bottom = 0, largest_from_top = 0, largest_from_neither = 0;  // shares of its volume
+  // By the graph of all pairs in range: the components holding the bottom driven group's members (not the
+  // top's), the top's (not the bottom's), both (bridging), neither (detached wear particles).
+  long attached_bottom_particles = 0, attached_top_particles = 0;
+  long bridging_particles = 0, bridging_clusters = 0;
+  long detached_particles = 0, detached_clusters = 0;
+  double detached_volume = 0, largest_detached_volume = 0;
   double window_time = 0;   // the time the displacements span (0: no earlier position yet)
   double window_slide = 0;  // the driven groups' relative slide over it
   bool classified = false;  // f classified the particles (else each kept its last state)
@@ -104,6 +144,8 @@ struct SurfaceSample {
   double top_shift = 0, bottom_force = 0, bottom_shift = 0;
   // The histogram: per bin, the third-body clusters and their volume.
   std::vector<double> bin_clusters, bin_volume;
+  // The third-body clusters, largest first (surfaces_debris.csv's rows).
+  std::vector<SurfaceDebris> debris;
 };
 
 /// The work the drives did along the slide between two samples: each driven group's drive holds it against
@@ -131,6 +173,10 @@ struct SurfaceCensusState {
   std::vector<double> bin_edges;
   std::vector<double> samples;  // sample_values() per sample
   std::size_t sample_count = 0;
+  std::vector<std::int64_t> joined_id;  // third-body particles: the tangential_work column when they joined it
+  std::vector<double> joined_value;
+  std::vector<std::int64_t> debris_count;  // per sample: its third-body clusters
+  std::vector<double> debris;              // their values (debris_values()), sample after sample
 };
 
 class SurfaceCensus {
@@ -155,6 +201,10 @@ class SurfaceCensus {
   static const ColumnTable& histogram_table();
   static std::vector<std::string> histogram_columns() { return histogram_table().header(); }
   std::vector<std::vector<double>> histogram_rows(const SurfaceSample& s) const;
+  /// surfaces_debris.csv's: one row per sample and third-body cluster, largest first.
+  static const ColumnTable& debris_table();
+  static std::vector<std::string> debris_columns() { return debris_table().header(); }
+  static std::vector<std::vector<double>> debris_rows(const SurfaceSample& s);
 
   /// The state to continue from (checkpoints), and back (InputError naming the checkpoint `path` for arrays
   /// that do not fit together).
@@ -163,6 +213,10 @@ class SurfaceCensus {
 
   /// Wear volume against tangential work over the samples so far.
   PowerFit wear_fit() const;
+  /// V_d = c W_t^a over the last sample's third-body clusters with W_t > 0 (none made without the accounting).
+  PowerFit debris_fit() const;
+  /// Whether the run has the energy accounting, which W_t per cluster and contact_tangential_work need.
+  bool energy_accounting() const { return energy_; }
   /// A paragraph on the last sample with its numbers ("surfaces: ...").
   std::string report() const;
 
@@ -173,6 +227,8 @@ class SurfaceCensus {
   std::vector<double> edges_;
   std::unordered_map<std::int64_t, int> origin_;  // id -> the body it started in (SurfaceState; third: neither)
   std::unordered_map<std::int64_t, int> state_;   // id -> its state now
+  std::unordered_map<std::int64_t, double> joined_;  // third-body id -> its tangential_work when it joined
+  bool energy_ = false;                              // the run has the energy accounting
   // Unwrapped positions by id at the samples of the last window (the oldest is the reference).
   std::deque<std::pair<double, std::unordered_map<std::int64_t, Vec3>>> history_;
   std::vector<SurfaceSample> samples_;
@@ -184,7 +240,9 @@ std::optional<SurfaceCensusState> read_surface_state(const h5::Location& at);
 
 /// Writes surfaces.gp in `dir` (surfaces.png from surfaces.csv: wear volume against the slide and, log-log
 /// with the fitted exponent, against the tangential work; friction coefficient and contact area against the
-/// slide) and runs gnuplot there. Returns the line the run prints: what was drawn, or why not.
+/// slide; detached and third-body volume against the slide; from surfaces_debris.csv, log-log, the last
+/// sample's wear particles' volume against their tangential work with the fitted exponent) and runs gnuplot
+/// there. Returns the line the run prints: what was drawn, or why not.
 std::string draw_surface_pictures(const std::string& dir, const SurfaceCensus& census, const PictureUnits& units);
 
 }  // namespace debris
