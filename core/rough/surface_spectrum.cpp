@@ -153,9 +153,11 @@ HurstFit fit_hurst_from_hhcf(const HeightCorrelation& c, double r_min, double r_
   return fit;
 }
 
-double spectral_rms_slope(const HeightField& f) {
+double spectral_rms_slope(const HeightField& f, double q_max) {
   double s = 0;
-  for_each_mode(f, [&](double q, int multiplicity, double power) { s += multiplicity * q * q * power; });
+  for_each_mode(f, [&](double q, int multiplicity, double power) {
+    if (q <= q_max) s += multiplicity * q * q * power;
+  });
   return std::sqrt(s);
 }
 

@@ -11,6 +11,7 @@
 // discrete form of  <h^2> = (2 pi)^-2 integral C(q) d^2q. Every k of the full spectrum counts, k and -k both
 // (a profile's C_1D(q) is two-sided: q and -q each carry C_1D).
 // Exponents: C_2D ~ q^-2(1+H), C_1D ~ q^-(1+2H), height-height correlation ~ r^2H.
+#include <limits>
 #include <vector>
 
 #include "core/rough/height_field.hpp"
@@ -67,6 +68,8 @@ HurstFit fit_hurst_from_hhcf(const HeightCorrelation& c, double r_min, double r_
 /// The rms gradient from the spectrum, sqrt(sum over k of |k|^2 |h_k|^2): exact for the band-limited field the
 /// grid samples (its trigonometric interpolant; a Nyquist mode counts as a cosine of wave number pi / spacing).
 /// HeightField::rms_slope is the central-difference one, which underestimates short waves by sin(k d) / (k d).
-double spectral_rms_slope(const HeightField& f);
+/// With q_max: the modes with |q| <= q_max only (the slope of the field's wavelengths down to 2 pi / q_max: a
+/// face of spheres measured above the particle scale).
+double spectral_rms_slope(const HeightField& f, double q_max = std::numeric_limits<double>::infinity());
 
 }  // namespace debris

@@ -20,6 +20,7 @@
 #include "scenarios/common/dem/dem_input.hpp"
 #include "scenarios/common/dem/dem_keys.hpp"
 #include "scenarios/common/dem/run_pictures.hpp"
+#include "scenarios/common/dem/height_map_output.hpp"
 #include "scenarios/common/dem/surface_census.hpp"
 #include "scenarios/common/run/runner.hpp"
 
@@ -239,6 +240,7 @@ class DemRunModel final : public RunModel {
   std::string frame_files(const std::string& suffix) const override {
     return "dump" + suffix + ".lammpstrj, trajectory" + suffix + ".xmf + .h5" + (wear_ ? ", wear.csv" : "") +
            (surfaces_ ? ", surfaces.csv, surfaces_histogram.csv, surfaces_debris.csv" : "") +
+           (heights_ ? ", surfaces_heights.h5" : "") +
            (cfg_.output.pictures ? std::string(", side_view.png, tangential_force.png") +
                                        (sim_.settings().energy_accounting ? ", energy_balance.png" : "")
                                  : "") +
@@ -369,6 +371,7 @@ class DemRunModel final : public RunModel {
         for (const std::vector<double>& row : surfaces_->histogram_rows(s)) histogram_csv_->write_row(row);
         for (const std::vector<double>& row : SurfaceCensus::debris_rows(s)) debris_csv_->write_row(row);
       }
+      if (heights_ && write) heights_->append(s.step, s.time, s.slide, surfaces_->bottom_face(), surfaces_->top_face());
     });
     surfaces_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
@@ -379,6 +382,16 @@ class DemRunModel final : public RunModel {
     const std::string path = (fs::path(dir) / "surfaces.csv").string();
     const std::string histogram = (fs::path(dir) / "surfaces_histogram.csv").string();
     const std::string debris = (fs::path(dir) / "surfaces_debris.csv").string();
+    const std::string heights = (fs::path(dir) / "surfaces_heights.h5").string();
+    if (cfg_.surfaces->height_maps) {
+      // A continued run keeps the maps of the samples its checkpoint holds, and drops any written after it.
+      long keep = -1;
+      if (!suffix.empty() && surfaces_restored_) {
+        keep = 0;
+        for (const SurfaceSample& s : surfaces_->samples()) keep += s.step <= sim_.step_count() ? 1 : 0;
+      }
+      heights_.emplace(heights, keep);
+    }
     if (suffix.empty()) {
       surfaces_csv_.emplace(path, SurfaceCensus::columns());
       histogram_csv_.emplace(histogram, SurfaceCensus::histogram_columns());
@@ -431,6 +444,7 @@ class DemRunModel final : public RunModel {
   double wear_seconds_ = 0;
   std::optional<SurfaceCensus> surfaces_;
   std::optional<ThermoCsv> surfaces_csv_, histogram_csv_, debris_csv_;
+  std::optional<HeightMapWriter> heights_;
   bool surfaces_restored_ = false;
   double surfaces_seconds_ = 0;
 };

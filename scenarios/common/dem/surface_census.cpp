@@ -14,8 +14,10 @@
 #include "core/error.hpp"
 #include "core/io/hdf5_file.hpp"
 #include "core/io/input.hpp"
+#include "core/rough/surface_envelope.hpp"
 #include "scenarios/common/dem/dem_simulation.hpp"
 #include "scenarios/common/dem/run_pictures.hpp"
+#include "scenarios/common/dem/surface_roughness.hpp"
 #include "scenarios/common/run/gnuplot.hpp"
 
 namespace debris {
@@ -101,6 +103,9 @@ void for_each_column(Sample& s, F&& f) {
   f(s.attached_bottom_particles), f(s.attached_top_particles), f(s.bridging_particles), f(s.bridging_clusters);
   f(s.detached_particles), f(s.detached_volume), f(s.detached_clusters), f(s.largest_detached_volume);
   f(s.window_time), f(s.window_slide), f(s.classified);
+  f(s.bottom_mean_height), f(s.bottom_rms_height), f(s.bottom_rms_slope), f(s.bottom_hurst), f(s.bottom_hurst_error);
+  f(s.bottom_hurst_hhcf), f(s.top_mean_height), f(s.top_rms_height), f(s.top_rms_slope), f(s.top_hurst);
+  f(s.top_hurst_error), f(s.top_hurst_hhcf);
 }
 
 // surfaces_debris.csv's values of one cluster, after the sample's step and slide.
@@ -159,6 +164,23 @@ SurfaceSettings read_surface_settings(const InputNode& n) {
     s.min_slide = n.quantity("min_slide", units::length);
     if (!(s.min_slide > 0) || !std::isfinite(s.min_slide))
       throw input_error(n.path() + ".min_slide", format_value(s.min_slide), "must be > 0 (a length)");
+  }
+  if (n.has("roughness")) {
+    const InputNode r = n.child("roughness");
+    if (r.has("grid_spacing")) {
+      s.roughness_spacing = r.quantity("grid_spacing", units::length);
+      if (!(s.roughness_spacing > 0) || !std::isfinite(s.roughness_spacing))
+        throw input_error(r.path() + ".grid_spacing", format_value(s.roughness_spacing), "must be > 0 (a length)");
+    }
+    if (r.has("fit")) {
+      const std::vector<double> v = r.numbers("fit", units::length);
+      if (v.size() != 2 || !(v[0] > 0) || !(v[1] > v[0]) || !std::isfinite(v[1]))
+        throw input_error(r.path() + ".fit", r.yaml_of("fit"),
+                          "give [shortest, longest] wavelengths, 0 < shortest < longest");
+      s.fit_shortest = v[0];
+      s.fit_longest = v[1];
+    }
+    s.height_maps = r.boolean("height_maps", true);
   }
   return s;
 }
@@ -227,6 +249,20 @@ void document_surface_settings(KeyReference& r) {
       .fallback_is("the smallest particle's radius").allowed("> 0")
       .means("f classifies only when the driven groups slid at least this far relative to each other over the "
              "window; before, each particle keeps its last state");
+  r.key("surfaces.roughness").is(KeyKind::section).fallback_is("measured with the defaults below")
+      .means("the roughness of the two faces each sample: the envelope of each body's spheres (by state) on a grid, "
+             "its rms height, rms slope and Hurst exponent (surfaces.csv), the height maps in surfaces_heights.h5");
+  r.key("surfaces.roughness.grid_spacing").is(KeyKind::quantity).in(units::length)
+      .fallback_is("the smallest particle's radius").allowed("> 0")
+      .means("the height maps' grid spacing (at most this; the grid spans the box's in-plane lengths)");
+  r.key("surfaces.roughness.fit").is(KeyKind::numbers).in(units::length)
+      .fallback_is("[two largest particle diameters, half the box along the first in-plane axis]")
+      .allowed("[shortest, longest], 0 < shortest < longest")
+      .means("the wavelengths the Hurst exponent is fitted over: the PSD between 2 pi / longest and 2 pi / shortest, "
+             "the height-height correlation between shortest / 2 and longest / 2; shorter wavelengths are the "
+             "particles' own bumps, not roughness");
+  r.key("surfaces.roughness.height_maps").is(KeyKind::boolean).fallback("true")
+      .means("writes each sample's two height maps to surfaces_heights.h5 (HDF5: /samples/<k>/bottom and /top)");
 }
 
 double tangential_work_increment(double top_force_before, double top_force_after, double top_shift_before,
@@ -340,6 +376,11 @@ SurfaceCensus::SurfaceCensus(const SurfaceSettings& settings, const DemSimulatio
   std::sort(volumes.begin(), volumes.end());
   for (const auto& v : volumes) total += v.second;
   min_slide_ = s_.min_slide > 0 ? s_.min_slide : smallest;
+  const double largest = 2.0 * *std::max_element(p.radius.begin(), p.radius.end());
+  spacing_ = s_.roughness_spacing > 0 ? s_.roughness_spacing : smallest;
+  const int axis_a = s_.normal_axis == 0 ? 1 : 0;
+  fit_shortest_ = s_.fit_shortest > 0 ? s_.fit_shortest : 2.0 * largest;
+  fit_longest_ = s_.fit_longest > 0 ? s_.fit_longest : 0.5 * sim.box().length(axis_a);
   if (!s_.histogram_bins.empty()) {
     edges_ = s_.histogram_bins;
   } else {
@@ -579,6 +620,35 @@ const SurfaceSample& SurfaceCensus::sample(const DemSimulation& sim) {
   }
   for (std::size_t r = 0; r < n; ++r)
     out.largest_detached_volume = std::max(out.largest_detached_volume, component_volume[r]);
+
+  // 5. The faces' roughness: the envelope of each body's spheres by state (the third body and the material in
+  // flight are no part of a face; transferred material is part of the face it moves with).
+  std::vector<char> bottom_mask(n, 0), top_mask(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const int st = state_.at(p.id[i]);
+    bottom_mask[i] = st == kBottom;
+    top_mask[i] = st == kTop;
+  }
+  auto face = [&](const std::vector<char>& mask, EnvelopeSide side, HeightField& keep) {
+    if (std::find(mask.begin(), mask.end(), 1) == mask.end()) {  // no particle moves with this body: no face
+      keep = HeightField{};
+      keep.normal_axis = s_.normal_axis;
+      keep.n_a = keep.n_b = 1;
+      keep.h = {kNaN};
+      return std::vector<double>(face_columns("").size(), kNaN);
+    }
+    keep = surface_envelope(sim.box(), s_.normal_axis, side, spacing_, std::span<const double>(p.x.data(), n),
+                            std::span<const double>(p.y.data(), n), std::span<const double>(p.z.data(), n),
+                            std::span<const double>(p.radius.data(), n), std::span<const char>(mask))
+               .field;
+    return face_values(measure_face(keep, fit_shortest_, fit_longest_));
+  };
+  const std::vector<double> b = face(bottom_mask, EnvelopeSide::top, bottom_face_);
+  const std::vector<double> t = face(top_mask, EnvelopeSide::bottom, top_face_);
+  out.bottom_mean_height = b[0], out.bottom_rms_height = b[1], out.bottom_rms_slope = b[2];
+  out.bottom_hurst = b[3], out.bottom_hurst_error = b[4], out.bottom_hurst_hhcf = b[5];
+  out.top_mean_height = t[0], out.top_rms_height = t[1], out.top_rms_slope = t[2];
+  out.top_hurst = t[3], out.top_hurst_error = t[4], out.top_hurst_hhcf = t[5];
   samples_.push_back(std::move(out));
   return samples_.back();
 }
@@ -649,6 +719,29 @@ const ColumnTable& SurfaceCensus::table() {
            "1 when f classified the particles; 0 when window_slide was below `surfaces.min_slide` and each kept its "
            "last state",
            ""},
+          {"bottom_mean_height", "m",
+           "the bottom body's face (the upper envelope of the spheres moving with it, on the `surfaces.roughness` "
+           "grid): its mean height along the normal",
+           ""},
+          {"bottom_rms_height", "m", "its root mean square height about that mean", ""},
+          {"bottom_rms_slope", "-",
+           "its root mean square slope, from its spectrum over the wavelengths down to the shortest of "
+           "`surfaces.roughness.fit` (the spheres' own caps are steeper at any roughness)",
+           ""},
+          {"bottom_hurst", "-",
+           "its Hurst exponent H from the radially averaged PSD, C ~ q^-2(1+H), fitted over `surfaces.roughness.fit` "
+           "(NaN: too few points with power, a flat face)",
+           ""},
+          {"bottom_hurst_error", "-", "the fit's standard error of H", ""},
+          {"bottom_hurst_hhcf", "-",
+           "H from the height-height correlation along the first in-plane axis, ~ r^2H (a check on bottom_hurst)",
+           ""},
+          {"top_mean_height", "m", "the top body's face (the lower envelope of the spheres moving with it)", ""},
+          {"top_rms_height", "m", "its root mean square height", ""},
+          {"top_rms_slope", "-", "its root mean square slope", ""},
+          {"top_hurst", "-", "its Hurst exponent from the PSD", ""},
+          {"top_hurst_error", "-", "the fit's standard error", ""},
+          {"top_hurst_hhcf", "-", "H from the height-height correlation", ""},
       }};
   return t;
 }

@@ -61,6 +61,7 @@
 #include <vector>
 
 #include "core/io/key_reference.hpp"
+#include "core/rough/height_field.hpp"
 #include "core/vec3.hpp"
 
 namespace debris {
@@ -88,6 +89,12 @@ struct SurfaceSettings {
   double moving_min = 0.1, moving_max = 0.9;  // f range of the third body
   std::vector<double> histogram_bins;         // m: equivalent-diameter bin edges, increasing; empty: the default
   double min_slide = -1;                      // m: the least relative slide for f to classify; < 0: the smallest radius
+  // Roughness of the two faces (surface_roughness.hpp): the envelopes' grid spacing (< 0: the smallest particle's
+  // radius), the wavelengths the Hurst exponent is fitted over (< 0: two largest diameters; half the box along
+  // the first in-plane axis), and whether the height maps go to surfaces_heights.h5.
+  double roughness_spacing = -1;
+  double fit_shortest = -1, fit_longest = -1;
+  bool height_maps = true;
 };
 
 /// Reads the `surfaces:` section of a debris_dem input (InputError naming the key for anything bad).
@@ -139,6 +146,12 @@ struct SurfaceSample {
   double window_time = 0;   // the time the displacements span (0: no earlier position yet)
   double window_slide = 0;  // the driven groups' relative slide over it
   bool classified = false;  // f classified the particles (else each kept its last state)
+  // Each face's roughness: the bottom body's top face, the top body's bottom face (by state), each mean height,
+  // rms height, rms slope, H from the PSD with its error, H from the height-height correlation (NaN: no fit).
+  double bottom_mean_height = 0, bottom_rms_height = 0, bottom_rms_slope = 0;
+  double bottom_hurst = 0, bottom_hurst_error = 0, bottom_hurst_hhcf = 0;
+  double top_mean_height = 0, top_rms_height = 0, top_rms_slope = 0;
+  double top_hurst = 0, top_hurst_error = 0, top_hurst_hhcf = 0;
   // Kept for the next sample's work (not in the row): the driven groups' reactions and displacements along
   // the slide.
   double top_shift = 0, bottom_force = 0, bottom_shift = 0;
@@ -188,6 +201,12 @@ class SurfaceCensus {
   /// Samples the current state (call every settings.every steps).
   const SurfaceSample& sample(const DemSimulation& sim);
   const std::vector<SurfaceSample>& samples() const { return samples_; }
+  /// The faces' height maps of the last sample (the bottom body's top face, the top body's bottom face).
+  const HeightField& bottom_face() const { return bottom_face_; }
+  const HeightField& top_face() const { return top_face_; }
+  /// The wavelengths the faces' Hurst exponents are fitted over (m).
+  double fit_shortest() const { return fit_shortest_; }
+  double fit_longest() const { return fit_longest_; }
   const std::vector<double>& bin_edges() const { return edges_; }
   const SurfaceSettings& settings() const { return s_; }
   /// The current state of the particle with this id (its starting one before the first sample).
@@ -232,6 +251,8 @@ class SurfaceCensus {
   // Unwrapped positions by id at the samples of the last window (the oldest is the reference).
   std::deque<std::pair<double, std::unordered_map<std::int64_t, Vec3>>> history_;
   std::vector<SurfaceSample> samples_;
+  double spacing_ = 0, fit_shortest_ = 0, fit_longest_ = 0;
+  HeightField bottom_face_, top_face_;
 };
 
 /// The state as the group `surfaces` under `at` (a checkpoint's `run` group), and back (nullopt: none there).

@@ -10,8 +10,8 @@ FaceRoughness measure_face(const HeightField& face, double shortest, double long
   FaceRoughness r;
   r.mean_height = face.mean();
   r.rms_height = face.rms_height();
-  r.rms_slope = spectral_rms_slope(face);
   const double two_pi = 2 * std::numbers::pi;
+  r.rms_slope = spectral_rms_slope(face, two_pi / shortest * (1 + 1e-9));
   r.psd = fit_hurst_from_psd(power_spectrum(face), two_pi / longest, two_pi / shortest);
   // The correlation at separation r probes wavelengths of about 2 r.
   r.hhcf = fit_hurst_from_hhcf(height_height_correlation(face, 0, 0.5), shortest / 2, longest / 2);

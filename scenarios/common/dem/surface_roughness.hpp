@@ -17,7 +17,7 @@ namespace debris {
 struct FaceRoughness {
   double mean_height = 0;  // m, along the normal
   double rms_height = 0;   // m
-  double rms_slope = 0;    // spectral
+  double rms_slope = 0;    // spectral, over the wavelengths down to `shortest` (the particles' caps left out)
   HurstFit psd;            // H from the PSD (the figure reported), over [2 pi / longest, 2 pi / shortest]
   HurstFit hhcf;           // H from the height-height correlation along a, over [shortest, longest] / 2
 };
