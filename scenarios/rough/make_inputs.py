@@ -72,11 +72,15 @@ def write(name, d0, tiles, hurst, rms_nm, cutoff_nm, slide_ns, sample_ps, settle
     bottom = s1(y_mid - gap / 2, "below")
     top_body = (f"{{difference: [{surface(seeds[1], y_mid + gap / 2, 'above')}, "
                 f"{s1(y_mid - gap / 2 + clearance_nm * 1e-9, 'below')}]}}")
+    if hurst is None:  # a flat pair: the faces are planes one clearance apart
+        bottom = f"{{block: {{y: [-inf, {nm(y_mid)}]}}}}"
+        top_body = f"{{block: {{y: [{nm(y_mid + clearance_nm * 1e-9)}, inf]}}}}"
     n = 1
     for t in tiles:
         n *= t
-    text = f"""# Wear of rough surfaces{comment}: two amorphous silica bodies with self-affine faces (H = {hurst},
-# rms height {rms_nm:g} nm, wavelengths {cutoff_nm:g} nm to the box's length), pressed together at {load_mpa} MPa and slid at
+    faces = (f"self-affine faces (H = {hurst},\n# rms height {rms_nm:g} nm, wavelengths {cutoff_nm:g} nm to the box's length)"
+             if hurst is not None else "flat faces (the control)")
+    text = f"""# Wear of rough surfaces{comment}: two amorphous silica bodies with {faces}, pressed together at {load_mpa} MPa and slid at
 # {speed} m/s along x for {slide_ns:g} ns ({speed * slide_ns:g} nm, {speed * slide_ns * 1e-9 / length[0]:.2f} box lengths). The sample in ../wear/{s['data']}
 # (d0 = {d0} nm) tiled {tiles[0]} x {tiles[1]} x {tiles[2]}: box {nm(length[0])} x {nm(length[1])} x {nm(length[2])}. Written by make_inputs.py. Run:
 #   build/bin/debris_dem -i scenarios/rough/{name}.yaml
@@ -150,3 +154,17 @@ if __name__ == "__main__":
     # The reduced input CI runs (seconds): one d0 = 6 nm sample, untiled, a short slide.
     print(write("rough_small", "6", (1, 1, 1), 0.8, 2.0, 15.0, slide_ns=0.6, sample_ps=20, settle_ns=0.1,
                 frame_ns=0.1, checkpoint_ns=0.25, comment=" (reduced: the CI's input)"))
+    # The 3D study: the d0 = 3 nm sample tiled 2 x 2 x 6 (58,536 particles, box 121 x 80 x 241 nm), slid four
+    # box lengths (48 ns, 483 nm) at 10 m/s; samples every 50 ps. The shortest wavelength is 15 nm, two of
+    # the samples' largest diameters.
+    study = dict(d0="3", tiles=(2, 2, 6), cutoff_nm=15.0, slide_ns=48.0, sample_ps=50, frame_ns=2.0,
+                 checkpoint_ns=1.0)
+    print(write("rough_H0.8_rms2nm", hurst=0.8, rms_nm=2.0, **study))
+    print(write("rough_H0.5_rms2nm", hurst=0.5, rms_nm=2.0, **study))
+    print(write("rough_H0.8_rms4nm", hurst=0.8, rms_nm=4.0, **study))
+    print(write("rough_H0.5_rms4nm", hurst=0.5, rms_nm=4.0, **study))
+    print(write("rough_flat", hurst=None, rms_nm=0.0, **study))
+    # The large input (10^6 particles: the sample tiled 8 x 2 x 26, box 483 x 80 x 1046 nm) for the rate on
+    # MPI ranks: a short stretch of slide.
+    print(write("rough_large", "3", (8, 2, 26), 0.8, 2.0, 15.0, slide_ns=0.2, sample_ps=50, settle_ns=0.05,
+                frame_ns=1.0, checkpoint_ns=1.0, comment=" (10^6 particles, for the rate)"))

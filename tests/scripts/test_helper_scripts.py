@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The helper scripts of scenarios/wear and scenarios/peridem on small real outputs.
+"""The helper scripts of scenarios/wear, scenarios/rough and scenarios/peridem on small real outputs.
 
     /usr/bin/python3 tests/scripts/test_helper_scripts.py BUILD/bin      (or DEBRIS_BIN_DIR=BUILD/bin)
 
@@ -26,6 +26,7 @@ import unittest
 SOURCE = pathlib.Path(__file__).resolve().parents[2]
 WEAR = SOURCE / "scenarios" / "wear"
 PERIDEM = SOURCE / "scenarios" / "peridem"
+ROUGH = SOURCE / "scenarios" / "rough"
 BIN = None  # set in __main__
 WORK = None  # the temporary directory, set in setUpModule
 
@@ -198,6 +199,11 @@ def setUpModule():
     shutil.copytree(WORK / "press_short", WORK / "press")
     simulate("debris_peridem", ["--restart", WORK / "press" / "checkpoint.h5", "-i", WORK / "press.yaml",
                                 "-o", WORK / "press"])
+    # The rough-surface scenario's reduced input (about 1 s), its data file found from here.
+    rough = (ROUGH / "rough_small.yaml").read_text().replace("lammps_data: ../wear/data/",
+                                                            "lammps_data: %s/" % (WEAR / "data"))
+    (WORK / "rough.yaml").write_text(rough)
+    simulate("debris_dem", ["-i", WORK / "rough.yaml", "-o", WORK / "rough"])
 
 
 def tearDownModule():
@@ -464,6 +470,26 @@ class OtherPeridemScripts(Helpers):
                                 "settled_pack.py", "--reference")
         self.assertFalse((WORK / "out.csv").exists())
         self.assertFalse((WORK / "no_such_dir").exists())
+
+
+class RoughPlot(Helpers):
+    SCRIPT = ROUGH / "plot.py"
+
+    def test_draws_the_faces_and_names_what_it_wrote(self):
+        pics = WORK / "rough_pictures"
+        pics.mkdir()
+        r = script(self.SCRIPT, WORK / "rough", "--out", pics)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("bottom first: H", r.stdout)
+        self.assertIn("wrote %s and %s" % (pics / "roughness.png", pics / "faces.png"), r.stdout)
+        self.assertEqual(sorted(p.name for p in pics.iterdir()), ["faces.png", "roughness.png"])
+
+    def test_wrong_folders_create_nothing(self):
+        self.assertOneLineError(script(self.SCRIPT, WORK / "no_such_run"), "plot.py", "surfaces.csv")
+        self.assertOneLineError(script(self.SCRIPT, WORK / "junction"), "plot.py", "junction/surfaces.csv")
+        self.assertOneLineError(script(self.SCRIPT, WORK / "rough", "--out", WORK / "no_such_out"), "plot.py",
+                                "no_such_out")
+        self.assertFalse((WORK / "no_such_out").exists())
 
 
 if __name__ == "__main__":
