@@ -121,13 +121,18 @@ TEST(WearJunctionRolling, D20AtD0OneAndAHalfNmIsARollingWearParticleAsInThePaper
   EXPECT_GT(census_at("largest_cluster_volume"), 0.9 * census_at("third_volume"));
   EXPECT_GT(census_at("largest_from_top"), 0.5);
   EXPECT_EQ(census_at("contact_pairs"), 0.0);
+  // The graph of all pairs in range puts every particle in one place: attached to a body, bridging or detached.
+  EXPECT_EQ(census_at("attached_bottom_particles") + census_at("attached_top_particles") +
+                census_at("bridging_particles") + census_at("detached_particles"),
+            census_at("bottom_particles") + census_at("top_particles") + census_at("third_particles"));
 }
 
 // A junction run in three chunks (restarts at step 20,000 and at 45,000, inside the last window and the
 // verdict's span, and one more from the checkpoint at 45,000 after a kill while the final checkpoint was
 // being written) writes the wear.csv, thermo and verdict of the run in one piece byte for byte: the
-// analysis's window, bond record and samples are in the checkpoint. So do the census's surfaces.csv and
-// surfaces_histogram.csv (its states, window, bins and samples are there too). The slide is 4 ns here
+// analysis's window, bond record and samples are in the checkpoint. So do the census's surfaces.csv,
+// surfaces_histogram.csv and surfaces_debris.csv (its states, window, bins, samples with their clusters and
+// each third-body particle's tangential work when it joined are there too). The slide is 4 ns here
 // (52,500 steps).
 TEST(WearJunctionRestart, ChunkedRunEqualsTheRunInOnePiece) {
   const fs::path d = debris::test::fresh_directory("debris_wear_chunks");
@@ -151,7 +156,7 @@ TEST(WearJunctionRestart, ChunkedRunEqualsTheRunInOnePiece) {
   const fs::path at_45000 = d / "checkpoint_45000.h5";
   fs::copy_file(checkpoint, at_45000);
   dem("--restart " + checkpoint + " -i " + whole + " -o " + chunks.string());
-  for (const char* file : {"wear.csv", "surfaces.csv", "surfaces_histogram.csv"})
+  for (const char* file : {"wear.csv", "surfaces.csv", "surfaces_histogram.csv", "surfaces_debris.csv"})
     EXPECT_EQ(debris::test::slurp(one / file), debris::test::slurp(chunks / file)) << file;
   // The kill: the final checkpoint never renamed into place (the one at 45,000 is still there), a cut-off
   // temporary file beside it, and rows past 45,000 already written.
@@ -163,9 +168,10 @@ TEST(WearJunctionRestart, ChunkedRunEqualsTheRunInOnePiece) {
   const std::string wear = debris::test::slurp(one / "wear.csv");
   EXPECT_EQ(wear, debris::test::slurp(chunks / "wear.csv"));
   EXPECT_EQ(debris::test::slurp(one / "thermo.csv"), debris::test::slurp(chunks / "thermo.csv"));
-  for (const char* file : {"surfaces.csv", "surfaces_histogram.csv"})
+  for (const char* file : {"surfaces.csv", "surfaces_histogram.csv", "surfaces_debris.csv"})
     EXPECT_EQ(debris::test::slurp(one / file), debris::test::slurp(chunks / file)) << file;
   EXPECT_GT(debris::test::slurp(one / "surfaces_histogram.csv").size(), 10000u);
+  EXPECT_GT(debris::test::slurp(one / "surfaces_debris.csv").size(), 1000u);
   auto verdict = [](const std::string& log) { return log.substr(log.find("wear: verdict"), log.find("\nwear: bonds") -
                                                                                             log.find("wear: verdict")); };
   EXPECT_EQ(verdict(whole_log), verdict(last_log));

@@ -7,7 +7,12 @@
 # serial build's, the HDF5 trajectory (every particle of every frame) and the final checkpoint dataset for
 # dataset (h5diff, from hdf5-tools), and particles crossed a cut (the pass table's count over all ranks); a
 # checkpoint written on 4 ranks continues on 2, and one the serial build wrote on 3, to the same thermo.csv
-# and wear.csv. The whole default run on 2 ranks: the same files and wear verdict. Bad input on 3 ranks:
+# and wear.csv. The wear census (rank 0 samples the gathered system): the D = 10 nm junction input cut to
+# 10,000 steps (settling, then 6 nm of slide; third-body clusters from step 5,500 on), a sample every 250
+# steps over a 0.4 ns window, writes surfaces.csv, surfaces_histogram.csv and surfaces_debris.csv byte for
+# byte the serial build's on 2 and 3 ranks, and through a checkpoint written on 3 ranks at step 7,000 and
+# continued on 2. The whole default run
+# on 2 ranks: the same files and wear verdict. Bad input on 3 ranks:
 # one message, exit 2, nothing written. A run that blows up: the same health-check stop in the serial build
 # and on 1 and 3 ranks.
 #   dem_on_ranks.sh <mpirun> <debris_dem> <serial build's debris_dem> <source dir> <work dir>
@@ -45,6 +50,25 @@ run 3 -i full.yaml --restart from1/checkpoint.h5 > to3.log
 for f in thermo.csv wear.csv; do
   same one/$f from4/$f "$f written on 4 ranks to step 1500, continued on 2"
   same one/$f from1/$f "$f written by the serial build to step 1500, continued on 3 ranks"
+done
+# The wear census on ranks: default.yaml's junction in its scenarios/wear input, which has `surfaces:`, cut short.
+sed -e "s|lammps_data: data/|lammps_data: $src/scenarios/wear/data/|" -e 's|^run:|run:\n  steps: 10000|' \
+    -e 's|window: 2 ns                 # f over|window: 0.4 ns               # f over|' \
+    "$src/scenarios/wear/junction_D10_d0_6nm.yaml" > census.yaml
+sed -i -e '/^surfaces:/,/^output:/s|every: 625 |every: 250 |' census.yaml
+grep -q 'steps: 10000' census.yaml && grep -q 'window: 0.4 ns' census.yaml && [ "$(grep -c 'every: 250 ' census.yaml)" = 1 ] ||
+  { echo "junction_D10_d0_6nm.yaml changed: update $0"; exit 1; }
+sed -e 's|steps: 10000|steps: 7000|' census.yaml > census_half.yaml
+run serial -i census.yaml -o census1 > census1.log
+[ "$(wc -l < census1/surfaces_debris.csv)" -gt 5 ] || { echo "the census run found no third-body cluster: lengthen it"; failed=1; }
+for np in 2 3; do
+  run $np -i census.yaml -o census$np > census$np.log
+  for f in surfaces.csv surfaces_histogram.csv surfaces_debris.csv; do same census1/$f census$np/$f "$f on $np ranks"; done
+done
+run 3 -i census_half.yaml -o census_chunks > census_half.log
+run 2 -i census.yaml --restart census_chunks/checkpoint.h5 > census_rest.log
+for f in surfaces.csv surfaces_histogram.csv surfaces_debris.csv; do
+  same census1/$f census_chunks/$f "$f written on 3 ranks to step 7000, continued on 2"
 done
 # The default input in full (127,500 steps, 10.2 ns: settling, then 100 nm of slide) on 2 ranks: the same
 # files and the same wear verdict as the serial build.
