@@ -164,7 +164,7 @@ if __name__ == "__main__":
     print(write("rough_H0.8_rms4nm", hurst=0.8, rms_nm=4.0, **study))
     print(write("rough_H0.5_rms4nm", hurst=0.5, rms_nm=4.0, **study))
     print(write("rough_flat", hurst=None, rms_nm=0.0, **study))
-    # The large input (10^6 particles: the sample tiled 8 x 2 x 26, box 483 x 80 x 1046 nm) for the rate on
+    # The large input (10^6 particles: the sample tiled 8 x 2 x 28, box 483 x 80 x 1126 nm) for the rate on
     # MPI ranks: a short stretch of slide.
-    print(write("rough_large", "3", (8, 2, 26), 0.8, 2.0, 15.0, slide_ns=0.2, sample_ps=50, settle_ns=0.05,
+    print(write("rough_large", "3", (8, 2, 28), 0.8, 2.0, 15.0, slide_ns=0.2, sample_ps=50, settle_ns=0.05,
                 frame_ns=1.0, checkpoint_ns=1.0, comment=" (10^6 particles, for the rate)"))
