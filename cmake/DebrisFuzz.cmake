@@ -20,6 +20,7 @@ set(_core ${PROJECT_SOURCE_DIR}/core)
 set(_common ${PROJECT_SOURCE_DIR}/scenarios/common)
 debris_fuzz_instrument(debris_core ${_core}/io/input.cpp ${_core}/units.cpp ${_core}/io/lammps_data.cpp
                        ${_core}/io/gmsh_msh.cpp ${_core}/io/grain_csv.cpp ${_core}/io/hdf5_file.cpp ${_core}/region.cpp
+                       ${_core}/rough/height_map_file.cpp
                        ${_core}/lattice.cpp)
 debris_fuzz_instrument(debris_dem_sim ${_common}/dem/dem_input.cpp ${_common}/dem/dem_checkpoint.cpp)
 debris_fuzz_instrument(debris_peridem_sim ${_common}/peridem/peridem_input.cpp ${_common}/peridem/peridem_checkpoint.cpp)

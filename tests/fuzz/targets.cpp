@@ -14,6 +14,7 @@
 #include "core/io/grain_csv.hpp"
 #include "core/io/input.hpp"
 #include "core/io/lammps_data.hpp"
+#include "core/rough/height_map_file.hpp"
 #include "scenarios/amorphous/amorphous_input.hpp"
 #include "scenarios/common/dem/dem_input.hpp"
 #include "scenarios/common/dem/dem_simulation.hpp"
@@ -186,6 +187,14 @@ std::vector<Target> all_targets(const std::string& scratch) {
                  return Outcome::accepted;
                },
                is_input_error, {"data"}, nullptr, "", nullptr});
+
+  t.push_back({"height_map", "measured height map, a text grid of heights (read_height_map)",
+               [file](const std::string& in) {
+                 write_file(file, in);
+                 read_height_map(file, 1, 1e-9, 1e-9, 1e-9);
+                 return Outcome::accepted;
+               },
+               is_input_error, {"txt"}, nullptr, "", nullptr});
 
   t.push_back({"gmsh_msh", "Gmsh MSH 2.2 / 4.1 ASCII mesh (read_gmsh_msh)",
                [file](const std::string& in) {
