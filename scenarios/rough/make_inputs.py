@@ -14,39 +14,19 @@ Geometry (normal y, slide x, periodic along x and z):
                 stress, rigid) and, once settled, slid at a constant velocity along x
 """
 import pathlib
+import sys
 
 HERE = pathlib.Path(__file__).resolve().parent
 WEAR = HERE.parent / "wear"
+sys.dont_write_bytecode = True  # no __pycache__ left in scenarios/wear
+sys.path.insert(0, str(WEAR))
+from make_inputs import TABLE5, box_of, nm  # noqa: E402  (the junctions' material, sample boxes, lengths)
 
-TABLE5 = """material:                      # Table 5, s = 0.5 (as the sheared junctions)
-  youngs_modulus: 73 GPa
-  poisson_ratio: 0.17
-  tensile_strength: 16 GPa
-  shear_strength: 9 GPa
-  surface_energy: 1.5 N/m
-  restitution: 0.9
-  density: 2200 kg/m^3
-  scaling: 0.5
-"""
 SAMPLES = {  # d0 (nm): the relaxed sample and Table 6's time step
     "3": dict(data="data/silica_d0_3nm.data", dt_fs=40),
     "6": dict(data="data/silica_d0_6nm.data", dt_fs=80),
 }
 LARGEST_DIAMETER = 7.47e-9  # every silica sample's (d_l = 7.5 nm): a surface's shortest wavelength is >= 2 of it
-
-
-def box_of(data):
-    lo, hi = [0.0] * 3, [0.0] * 3
-    for line in (WEAR / data).read_text().splitlines()[:12]:
-        parts = line.split()
-        for axis, name in enumerate("xyz"):
-            if len(parts) == 4 and parts[2] == name + "lo":
-                lo[axis], hi[axis] = float(parts[0]), float(parts[1])
-    return lo, hi
-
-
-def nm(v):
-    return f"{v * 1e9:.4f} nm"
 
 
 def write(name, d0, tiles, hurst, rms_nm, cutoff_nm, slide_ns, sample_ps, settle_ns=0.2, load_mpa=100,
