@@ -26,12 +26,6 @@ std::string dem(const std::string& args) {
   return r.output;
 }
 
-std::size_t column(const debris::test::NumberTable& t, const std::string& name) {
-  const auto it = std::find(t.columns.begin(), t.columns.end(), name);
-  EXPECT_NE(it, t.columns.end()) << name;
-  return static_cast<std::size_t>(it - t.columns.begin());
-}
-
 TEST(RoughScenario, ReducedRunMeasuresBothFacesEverySample) {
   const fs::path d = debris::test::fresh_directory("debris_rough_small");
   const std::string input = debris::test::write_text_file(d, "rough.yaml", rough_input());
@@ -41,15 +35,15 @@ TEST(RoughScenario, ReducedRunMeasuresBothFacesEverySample) {
   // Both faces measured at every sample; the carved faces are rough (generated with rms 2 nm: the envelope of
   // spheres up to 7.5 nm across adds their caps) and the top face lies above the bottom one.
   for (const auto& row : csv.rows) {
-    EXPECT_GT(row[column(csv, "bottom_rms_height")], 1e-9);
-    EXPECT_LT(row[column(csv, "bottom_rms_height")], 6e-9);
-    EXPECT_GT(row[column(csv, "top_rms_height")], 1e-9);
-    EXPECT_GT(row[column(csv, "top_mean_height")], row[column(csv, "bottom_mean_height")]);
+    EXPECT_GT(row[csv.column("bottom_rms_height")], 1e-9);
+    EXPECT_LT(row[csv.column("bottom_rms_height")], 6e-9);
+    EXPECT_GT(row[csv.column("top_rms_height")], 1e-9);
+    EXPECT_GT(row[csv.column("top_mean_height")], row[csv.column("bottom_mean_height")]);
     // Every particle is attached to a body, bridging or detached (the graph's partition).
-    const double all = row[column(csv, "attached_bottom_particles")] + row[column(csv, "attached_top_particles")] +
-                       row[column(csv, "bridging_particles")] + row[column(csv, "detached_particles")];
-    EXPECT_EQ(all, row[column(csv, "bottom_particles")] + row[column(csv, "top_particles")] +
-                       row[column(csv, "third_particles")]);
+    const double all = row[csv.column("attached_bottom_particles")] + row[csv.column("attached_top_particles")] +
+                       row[csv.column("bridging_particles")] + row[csv.column("detached_particles")];
+    EXPECT_EQ(all, row[csv.column("bottom_particles")] + row[csv.column("top_particles")] +
+                       row[csv.column("third_particles")]);
   }
   // One pair of height maps per row, on the grid the census chose (a cell at most the smallest radius).
   debris::h5::File maps((d / "out" / "surfaces_heights.h5").string(), debris::h5::File::Mode::read_only);
@@ -66,7 +60,8 @@ TEST(RoughScenario, ChunkedRunWritesTheSameCensusAndHeightMaps) {
   const fs::path d = debris::test::fresh_directory("debris_rough_chunks");
   const std::string full = rough_input();
   const std::string whole = debris::test::write_text_file(d, "whole.yaml", full);
-  const std::string first = debris::test::write_text_file(d, "first.yaml", replace(full, "run:\n", "run:\n  steps: 4000\n"));
+  const std::string first =
+      debris::test::write_text_file(d, "first.yaml", replace(full, "run:\n", "run:\n  steps: 4000\n"));
   const fs::path one = d / "one", chunks = d / "chunks";
   dem("-i " + whole + " -o " + one.string());
   dem("-i " + first + " -o " + chunks.string());

@@ -1,6 +1,5 @@
 #include "scenarios/common/dem/replicate_sample.hpp"
 
-#include <cmath>
 #include <cstdint>
 
 #include "core/box.hpp"
@@ -8,28 +7,13 @@
 
 namespace debris {
 
-namespace {
-
-// c folded into [lo, lo + length).
-double fold(double c, double lo, double length) {
-  double f = std::fmod(c - lo, length);
-  if (f < 0) f += length;
-  if (f >= length) f = 0;  // -tiny + length rounds to length
-  return lo + f;
-}
-
-}  // namespace
-
 void replicate_sample(Particles& p, Box& box, std::array<int, 3> n) {
   if (n[0] == 1 && n[1] == 1 && n[2] == 1) return;
   const Vec3 lo = box.lo(), len = box.length();
   const std::size_t m = p.size();
-  for (std::size_t i = 0; i < m; ++i) {
-    p.x[i] = fold(p.x[i], lo.x, len.x);
-    p.y[i] = fold(p.y[i], lo.y, len.y);
-    p.z[i] = fold(p.z[i], lo.z, len.z);
-    p.ix[i] = p.iy[i] = p.iz[i] = 0;
-  }
+  // Every axis folded, as a box periodic along all three would (the sample was relaxed so), images dropped.
+  Box(lo, box.hi(), {true, true, true}).wrap(p);
+  for (std::size_t i = 0; i < m; ++i) p.ix[i] = p.iy[i] = p.iz[i] = 0;
   const std::size_t copies = static_cast<std::size_t>(n[0]) * n[1] * n[2];
   const std::int64_t id_step = p.max_id() + 1;
   p.resize(m * copies);
