@@ -10,7 +10,7 @@
 namespace debris {
 
 class Box;
-struct Particles;
+class Particles;
 
 /// Tiles `p` (every column; positions first folded into `box` along every axis, image counts reset) n[a]
 /// times along each axis a; copy (cx, cy, cz) is shifted by (cx Lx, cy Ly, cz Lz) and its ids are
